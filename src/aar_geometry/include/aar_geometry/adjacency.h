@@ -1,0 +1,38 @@
+#pragma once
+
+#include <array>
+#include <vector>
+
+#include "aar_geometry/triangle_mesh.h"
+
+namespace aar_geometry {
+
+// An undirected edge between two vertex indices, v0 < v1.
+struct Edge {
+  int v0 = -1;
+  int v1 = -1;
+  bool operator==(const Edge& o) const { return v0 == o.v0 && v1 == o.v1; }
+};
+
+// Winged-triangle adjacency (thesis 3.8): each triangle knows its three vertices and, across
+// each of its edges, its neighbour. Edge k of triangle t runs from vertices[t][k] to
+// vertices[t][(k + 1) % 3]; neighbors[t][k] is the triangle across it, or -1 when the edge is
+// open or shared by more than two triangles.
+struct TriangleAdjacency {
+  std::vector<std::array<int, 3>> vertices;
+  std::vector<std::array<int, 3>> neighbors;
+  std::vector<Edge> open_edges;          // used by one triangle: the boundary of an open mesh
+  std::vector<Edge> nonmanifold_edges;   // used by three or more triangles
+  std::vector<Edge> inconsistent_edges;  // two triangles that run the edge the same way (flipped)
+
+  // Watertight and consistently wound: the precondition of silhouettes and shadow volumes.
+  bool closed() const {
+    return open_edges.empty() && nonmanifold_edges.empty() && inconsistent_edges.empty();
+  }
+};
+
+// Adjacency by shared vertex indices: weld the mesh first (WeldVertices) when its triangles do
+// not share vertices.
+TriangleAdjacency BuildAdjacency(const TriangleMesh& mesh);
+
+}  // namespace aar_geometry

@@ -1,0 +1,35 @@
+#pragma once
+
+#include <cmath>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+namespace aar_geometry {
+
+constexpr double DegToRad(double deg) { return deg * M_PI / 180.0; }
+constexpr double RadToDeg(double rad) { return rad * 180.0 / M_PI; }
+
+// Aircraft attitude angles [rad], intrinsic z-y'-x'' (yaw about z, then pitch about the new y,
+// then roll about the newest x): R = Rz(yaw) * Ry(pitch) * Rx(roll), as in REP-103 and tf.
+struct RollPitchYaw {
+  double roll = 0.0;
+  double pitch = 0.0;
+  double yaw = 0.0;
+};
+
+Eigen::Matrix3d RotationFromRollPitchYaw(const RollPitchYaw& rpy);
+
+// Inverse of RotationFromRollPitchYaw with pitch in [-pi/2, pi/2] and roll, yaw in (-pi, pi].
+// At pitch = +/-90 deg only roll -/+ yaw is defined: roll is then reported as 0.
+RollPitchYaw RollPitchYawFromRotation(const Eigen::Matrix3d& R);
+
+// Pose from a position [m] and attitude [rad], e.g. one flight-path row.
+Eigen::Isometry3d MakeTransform(const Eigen::Vector3d& translation, const RollPitchYaw& rpy);
+
+// REP-103: a body frame is x forward, y left, z up; the optical frame of a camera on it is
+// z forward, x right, y down. R_body_optical maps optical coordinates into the body frame.
+Eigen::Matrix3d RotationBodyOptical();
+Eigen::Isometry3d T_body_optical();
+
+}  // namespace aar_geometry

@@ -1,0 +1,82 @@
+#pragma once
+
+#include <map>
+#include <string>
+#include <vector>
+
+#include "aar_geometry/triangle_mesh.h"
+
+namespace aar_geometry {
+
+// One <visual> or <collision> element, its geometry already turned into a mesh.
+struct GeometryElement {
+  std::string name;                   // the element's name attribute, else "<link>/<kind><index>"
+  std::string source;                 // "box", "cylinder", "sphere", or the resolved mesh path
+  Eigen::Isometry3d T_link_geometry;  // the element's <origin>
+  TriangleMesh mesh;                  // in the geometry frame, URDF mesh scale applied
+};
+
+struct Link {
+  std::string name;
+  std::vector<GeometryElement> visuals;
+  std::vector<GeometryElement> collisions;
+};
+
+enum class JointType { kFixed, kRevolute, kContinuous, kPrismatic, kFloating, kPlanar };
+
+struct Joint {
+  std::string name;
+  JointType type = JointType::kFixed;
+  std::string parent_link;
+  std::string child_link;
+  Eigen::Isometry3d T_parent_joint = Eigen::Isometry3d::Identity();  // the joint's <origin>
+  Eigen::Vector3d axis = Eigen::Vector3d::UnitX();                   // unit, in the joint frame
+  double lower = 0.0;  // [rad] or [m]; 0 when the URDF gives no limits
+  double upper = 0.0;  // [rad] or [m]
+
+  bool movable() const {
+    return type == JointType::kRevolute || type == JointType::kContinuous ||
+           type == JointType::kPrismatic;
+  }
+};
+
+struct RobotModel {
+  std::string name;
+  std::string root_link;
+  std::vector<Link> links;
+  std::vector<Joint> joints;
+
+  const Link* FindLink(const std::string& name) const;    // nullptr if absent
+  const Joint* FindJoint(const std::string& name) const;  // nullptr if absent
+};
+
+struct RobotModelOptions {
+  int cylinder_segments = 32;   // facets around URDF cylinders
+  int sphere_subdivisions = 2;  // icosphere level of URDF spheres (320 triangles)
+  // Roots searched for package://NAME/... (a root that is the package, or holds it up to four
+  // folders deep). Empty: the folders of the ROS_PACKAGE_PATH environment variable.
+  std::vector<std::string> package_paths;
+};
+
+// Parses a URDF through urdfdom and loads every visual and collision geometry: meshes through
+// LoadMesh (package://, file:// and paths relative to the URDF resolved), primitives through
+// MakeBox/MakeCylinder/MakeSphere. Throws LoadError naming the URDF, and the link and mesh where
+// one is at fault, for a missing, empty or malformed file, an invalid model or a mesh that does
+// not load.
+RobotModel LoadRobotModel(const std::string& path, const RobotModelOptions& options = {});
+
+// T_root_link for every link at the given joint positions ([rad] or [m]); joints not listed stay
+// at 0 (floating and planar joints are held at their origin). Throws std::invalid_argument for a
+// name that is not a movable joint of the model, or a value that is not finite.
+std::map<std::string, Eigen::Isometry3d> ComputeLinkPoses(
+    const RobotModel& model, const std::map<std::string, double>& joint_positions = {});
+
+enum class GeometryKind { kVisual, kCollision };
+
+// Every element of the kind placed in the root frame at the given link poses, one part per
+// element, named as GeometryElement::name.
+TriangleMesh RobotMesh(const RobotModel& model,
+                       const std::map<std::string, Eigen::Isometry3d>& T_root_links,
+                       GeometryKind kind);
+
+}  // namespace aar_geometry

@@ -1,0 +1,61 @@
+#include "aar_geometry/adjacency.h"
+
+#include <algorithm>
+#include <unordered_map>
+
+namespace aar_geometry {
+namespace {
+
+struct EdgeUse {
+  int triangle;
+  int slot;      // k: the edge runs from vertex k to vertex (k + 1) % 3 of the triangle
+  bool forward;  // runs v0 -> v1
+};
+
+}  // namespace
+
+TriangleAdjacency BuildAdjacency(const TriangleMesh& mesh) {
+  mesh.Validate();
+  const size_t n = mesh.triangles.size();
+  TriangleAdjacency adjacency;
+  adjacency.vertices.resize(n);
+  adjacency.neighbors.assign(n, {-1, -1, -1});
+
+  const uint64_t num_vertices = mesh.vertices.size();
+  std::unordered_map<uint64_t, std::vector<EdgeUse>> uses;
+  uses.reserve(3 * n);
+  for (size_t t = 0; t < n; ++t) {
+    for (int k = 0; k < 3; ++k) {
+      adjacency.vertices[t][k] = mesh.triangles[t][k];
+      const int a = mesh.triangles[t][k];
+      const int b = mesh.triangles[t][(k + 1) % 3];
+      const uint64_t key = static_cast<uint64_t>(std::min(a, b)) * num_vertices + std::max(a, b);
+      uses[key].push_back({static_cast<int>(t), k, a < b});
+    }
+  }
+
+  for (const auto& [key, edge_uses] : uses) {
+    const Edge edge{static_cast<int>(key / num_vertices), static_cast<int>(key % num_vertices)};
+    if (edge_uses.size() == 1) {
+      adjacency.open_edges.push_back(edge);
+    } else if (edge_uses.size() > 2) {
+      adjacency.nonmanifold_edges.push_back(edge);
+    } else {
+      const EdgeUse& a = edge_uses[0];
+      const EdgeUse& b = edge_uses[1];
+      adjacency.neighbors[a.triangle][a.slot] = b.triangle;
+      adjacency.neighbors[b.triangle][b.slot] = a.triangle;
+      if (a.forward == b.forward) adjacency.inconsistent_edges.push_back(edge);
+    }
+  }
+  // Deterministic order for reports and tests (the hash map's order is not).
+  auto by_vertices = [](const Edge& x, const Edge& y) {
+    return x.v0 != y.v0 ? x.v0 < y.v0 : x.v1 < y.v1;
+  };
+  std::sort(adjacency.open_edges.begin(), adjacency.open_edges.end(), by_vertices);
+  std::sort(adjacency.nonmanifold_edges.begin(), adjacency.nonmanifold_edges.end(), by_vertices);
+  std::sort(adjacency.inconsistent_edges.begin(), adjacency.inconsistent_edges.end(), by_vertices);
+  return adjacency;
+}
+
+}  // namespace aar_geometry

@@ -1,0 +1,50 @@
+#include "aar_geometry/pose.h"
+
+namespace aar_geometry {
+
+Eigen::Matrix3d RotationFromRollPitchYaw(const RollPitchYaw& rpy) {
+  return (Eigen::AngleAxisd(rpy.yaw, Eigen::Vector3d::UnitZ()) *
+          Eigen::AngleAxisd(rpy.pitch, Eigen::Vector3d::UnitY()) *
+          Eigen::AngleAxisd(rpy.roll, Eigen::Vector3d::UnitX()))
+      .toRotationMatrix();
+}
+
+RollPitchYaw RollPitchYawFromRotation(const Eigen::Matrix3d& R) {
+  RollPitchYaw rpy;
+  // atan2 of both terms rather than asin(-R20): accurate near +/-90 deg, where asin is not.
+  const double cos_pitch = std::hypot(R(0, 0), R(1, 0));
+  rpy.pitch = std::atan2(-R(2, 0), cos_pitch);
+  if (cos_pitch > 1e-9) {
+    rpy.roll = std::atan2(R(2, 1), R(2, 2));
+    rpy.yaw = std::atan2(R(1, 0), R(0, 0));
+  } else {
+    // Gimbal lock: R depends on yaw - roll (pitch +90) or yaw + roll (pitch -90) only.
+    rpy.roll = 0.0;
+    rpy.yaw = std::atan2(-R(0, 1), R(1, 1));
+  }
+  return rpy;
+}
+
+Eigen::Isometry3d MakeTransform(const Eigen::Vector3d& translation, const RollPitchYaw& rpy) {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = RotationFromRollPitchYaw(rpy);
+  T.translation() = translation;
+  return T;
+}
+
+Eigen::Matrix3d RotationBodyOptical() {
+  Eigen::Matrix3d R;
+  // Columns: optical x (right) = -body y, optical y (down) = -body z, optical z (forward) = body x.
+  R << 0, 0, 1,  //
+      -1, 0, 0,  //
+      0, -1, 0;
+  return R;
+}
+
+Eigen::Isometry3d T_body_optical() {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = RotationBodyOptical();
+  return T;
+}
+
+}  // namespace aar_geometry

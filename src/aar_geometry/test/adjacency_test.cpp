@@ -1,0 +1,98 @@
+#include "aar_geometry/adjacency.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+
+#include "aar_geometry/primitives.h"
+#include "test_files.h"
+
+namespace aar_geometry {
+namespace {
+
+bool HasEdge(const std::vector<Edge>& edges, int a, int b) {
+  const Edge e{std::min(a, b), std::max(a, b)};
+  return std::find(edges.begin(), edges.end(), e) != edges.end();
+}
+
+TEST(Adjacency, ClosedCubeEveryTriangleHasThreeNeighbours) {
+  const TriangleMesh cube = MakeBox({1.0, 1.0, 1.0});
+  const TriangleAdjacency adjacency = BuildAdjacency(cube);
+  ASSERT_EQ(adjacency.vertices.size(), 12u);
+  EXPECT_TRUE(adjacency.open_edges.empty());
+  EXPECT_TRUE(adjacency.nonmanifold_edges.empty());
+  EXPECT_TRUE(adjacency.inconsistent_edges.empty());
+  EXPECT_TRUE(adjacency.closed());
+  for (int t = 0; t < 12; ++t) {
+    for (int k = 0; k < 3; ++k) {
+      EXPECT_EQ(adjacency.vertices[t][k], cube.triangles[t][k]);
+      const int n = adjacency.neighbors[t][k];
+      ASSERT_GE(n, 0) << "triangle " << t << " edge " << k;
+      ASSERT_NE(n, t);
+      // The neighbour holds both vertices of the edge and points back across it.
+      const int a = adjacency.vertices[t][k], b = adjacency.vertices[t][(k + 1) % 3];
+      const auto& nv = adjacency.vertices[n];
+      EXPECT_NE(std::find(nv.begin(), nv.end(), a), nv.end());
+      EXPECT_NE(std::find(nv.begin(), nv.end(), b), nv.end());
+      const auto& back = adjacency.neighbors[n];
+      EXPECT_NE(std::find(back.begin(), back.end(), t), back.end());
+    }
+  }
+}
+
+TEST(Adjacency, OpenMeshReportsItsBoundary) {
+  // Remove the cube's -z face (triangles 0 and 1, over vertices 0, 2, 3, 1): a box open at
+  // the bottom, whose boundary is exactly that square.
+  TriangleMesh open = MakeBox({1.0, 1.0, 1.0});
+  open.triangles.erase(open.triangles.begin(), open.triangles.begin() + 2);
+  open.triangle_parts.erase(open.triangle_parts.begin(), open.triangle_parts.begin() + 2);
+  const TriangleAdjacency adjacency = BuildAdjacency(open);
+  EXPECT_FALSE(adjacency.closed());
+  ASSERT_EQ(adjacency.open_edges.size(), 4u);
+  EXPECT_TRUE(HasEdge(adjacency.open_edges, 0, 2));
+  EXPECT_TRUE(HasEdge(adjacency.open_edges, 2, 3));
+  EXPECT_TRUE(HasEdge(adjacency.open_edges, 3, 1));
+  EXPECT_TRUE(HasEdge(adjacency.open_edges, 1, 0));
+  EXPECT_TRUE(adjacency.nonmanifold_edges.empty());
+  int missing = 0;
+  for (const auto& n : adjacency.neighbors)
+    missing += static_cast<int>(std::count(n.begin(), n.end(), -1));
+  EXPECT_EQ(missing, 4);
+}
+
+TEST(Adjacency, UnweldedMeshHasNoNeighbours) {
+  const TriangleAdjacency adjacency = BuildAdjacency(test::UnsharedCube());
+  EXPECT_EQ(adjacency.open_edges.size(), 36u);
+  EXPECT_FALSE(adjacency.closed());
+}
+
+TEST(Adjacency, NonManifoldEdgeIsReported) {
+  TriangleMesh fan;
+  fan.AddPart("fan");
+  fan.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}};
+  fan.triangles = {{0, 1, 2}, {1, 0, 3}, {0, 1, 4}};  // three triangles on edge 0-1
+  fan.triangle_parts = {0, 0, 0};
+  const TriangleAdjacency adjacency = BuildAdjacency(fan);
+  ASSERT_EQ(adjacency.nonmanifold_edges.size(), 1u);
+  EXPECT_TRUE(HasEdge(adjacency.nonmanifold_edges, 0, 1));
+  EXPECT_EQ(adjacency.neighbors[0][0], -1);
+  EXPECT_FALSE(adjacency.closed());
+}
+
+TEST(Adjacency, FlippedTriangleIsInconsistent) {
+  TriangleMesh cube = MakeBox({1.0, 1.0, 1.0});
+  std::swap(cube.triangles[5][1], cube.triangles[5][2]);
+  const TriangleAdjacency adjacency = BuildAdjacency(cube);
+  EXPECT_TRUE(adjacency.open_edges.empty());
+  EXPECT_EQ(adjacency.inconsistent_edges.size(), 3u);
+  EXPECT_FALSE(adjacency.closed());
+}
+
+TEST(Adjacency, RejectsOutOfRangeIndices) {
+  TriangleMesh bad = MakeBox({1.0, 1.0, 1.0});
+  bad.triangles[0][2] = 99;
+  EXPECT_THROW(BuildAdjacency(bad), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace aar_geometry

@@ -1,0 +1,214 @@
+#include "aar_geometry/mesh_io.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdint>
+#include <cstring>
+
+#include "aar_geometry/adjacency.h"
+#include "aar_geometry/load_error.h"
+#include "aar_geometry/primitives.h"
+#include "aar_geometry/weld.h"
+#include "test_files.h"
+
+namespace aar_geometry {
+namespace {
+
+constexpr char kCubeObj[] = R"(# two parts: a unit cube split into its top and the rest
+v -0.5 -0.5 -0.5
+v 0.5 -0.5 -0.5
+v -0.5 0.5 -0.5
+v 0.5 0.5 -0.5
+v -0.5 -0.5 0.5
+v 0.5 -0.5 0.5
+v -0.5 0.5 0.5
+v 0.5 0.5 0.5
+o body
+f 1 3 4 2
+f 1 2 6 5
+f 3 7 8 4
+f 1 5 7 3
+f 2 4 8 6
+o top
+f 5 6 8 7
+)";
+
+constexpr char kCubePly[] = R"(ply
+format ascii 1.0
+element vertex 8
+property float x
+property float y
+property float z
+element face 6
+property list uchar int vertex_indices
+end_header
+-0.5 -0.5 -0.5
+0.5 -0.5 -0.5
+-0.5 0.5 -0.5
+0.5 0.5 -0.5
+-0.5 -0.5 0.5
+0.5 -0.5 0.5
+-0.5 0.5 0.5
+0.5 0.5 0.5
+4 0 2 3 1
+4 4 5 7 6
+4 0 1 5 4
+4 2 6 7 3
+4 0 4 6 2
+4 1 3 7 5
+)";
+
+// COLLADA in centimetres: a 100 cm cube must come out as 1 m.
+constexpr char kCubeDae[] = R"(<?xml version="1.0" encoding="utf-8"?>
+<COLLADA xmlns="http://www.collada.org/2005/11/COLLADASchema" version="1.4.1">
+  <asset><unit name="centimeter" meter="0.01"/><up_axis>Z_UP</up_axis></asset>
+  <library_geometries>
+    <geometry id="cube-mesh" name="cube">
+      <mesh>
+        <source id="cube-pos">
+          <float_array id="cube-pos-array" count="24">-50 -50 -50 50 -50 -50 -50 50 -50 50 50 -50 -50 -50 50 50 -50 50 -50 50 50 50 50 50</float_array>
+          <technique_common><accessor source="#cube-pos-array" count="8" stride="3">
+            <param name="X" type="float"/><param name="Y" type="float"/><param name="Z" type="float"/>
+          </accessor></technique_common>
+        </source>
+        <vertices id="cube-vtx"><input semantic="POSITION" source="#cube-pos"/></vertices>
+        <triangles count="12">
+          <input semantic="VERTEX" source="#cube-vtx" offset="0"/>
+          <p>0 2 3 0 3 1 4 5 7 4 7 6 0 1 5 0 5 4 2 6 7 2 7 3 0 4 6 0 6 2 1 3 7 1 7 5</p>
+        </triangles>
+      </mesh>
+    </geometry>
+  </library_geometries>
+  <library_visual_scenes>
+    <visual_scene id="scene"><node id="fairing" name="fairing">
+      <instance_geometry url="#cube-mesh"/>
+    </node></visual_scene>
+  </library_visual_scenes>
+  <scene><instance_visual_scene url="#scene"/></scene>
+</COLLADA>
+)";
+
+std::string BinaryStl(const TriangleMesh& mesh, uint32_t declared_facets, size_t written_facets) {
+  std::string out(80, ' ');
+  out.append(reinterpret_cast<const char*>(&declared_facets), 4);
+  for (size_t t = 0; t < written_facets; ++t) {
+    float values[12] = {0.0f};
+    const Eigen::Vector3d n = mesh.TriangleNormal(static_cast<int>(t));
+    for (int i = 0; i < 3; ++i) values[i] = static_cast<float>(n[i]);
+    for (int k = 0; k < 3; ++k) {
+      for (int i = 0; i < 3; ++i)
+        values[3 + 3 * k + i] = static_cast<float>(mesh.vertices[mesh.triangles[t][k]][i]);
+    }
+    out.append(reinterpret_cast<const char*>(values), sizeof(values));
+    out.append(2, '\0');  // attribute byte count
+  }
+  return out;
+}
+
+void ExpectUnitCube(const TriangleMesh& mesh) {
+  EXPECT_EQ(mesh.triangles.size(), 12u);
+  EXPECT_TRUE(mesh.Bounds().min().isApprox(Eigen::Vector3d::Constant(-0.5), 1e-6));
+  EXPECT_TRUE(mesh.Bounds().max().isApprox(Eigen::Vector3d::Constant(0.5), 1e-6));
+  EXPECT_NEAR(mesh.SurfaceArea(), 6.0, 1e-6);
+  // Closed and outward-wound once welded: the file's winding survived the import.
+  const TriangleMesh welded = WeldVertices(mesh).mesh;
+  EXPECT_TRUE(BuildAdjacency(welded).closed());
+  for (size_t t = 0; t < welded.triangles.size(); ++t) {
+    const auto& tri = welded.triangles[t];
+    const Eigen::Vector3d c =
+        (welded.vertices[tri[0]] + welded.vertices[tri[1]] + welded.vertices[tri[2]]) / 3.0;
+    EXPECT_GT(welded.TriangleNormal(static_cast<int>(t)).dot(c), 0.0);
+  }
+}
+
+TEST(LoadMesh, ObjKeepsObjectsAsParts) {
+  test::TempDir dir;
+  const TriangleMesh mesh = LoadMesh(dir.Write("cube.obj", kCubeObj));
+  ExpectUnitCube(mesh);
+  ASSERT_EQ(mesh.part_names.size(), 2u);
+  const int top = mesh.FindPart("top");
+  ASSERT_GE(top, 0);
+  EXPECT_EQ(std::count(mesh.triangle_parts.begin(), mesh.triangle_parts.end(), top), 2);
+  EXPECT_EQ(SelectParts(mesh, {"top"}).triangles.size(), 2u);
+}
+
+TEST(LoadMesh, AsciiStl) { ExpectUnitCube(LoadMesh(test::DataPath("cube.stl"))); }
+
+TEST(LoadMesh, BinaryStl) {
+  test::TempDir dir;
+  const TriangleMesh cube = MakeBox({1.0, 1.0, 1.0});
+  ExpectUnitCube(LoadMesh(dir.Write("cube.stl", BinaryStl(cube, 12, 12))));
+}
+
+TEST(LoadMesh, Ply) {
+  test::TempDir dir;
+  ExpectUnitCube(LoadMesh(dir.Write("cube.ply", kCubePly)));
+}
+
+TEST(LoadMesh, ColladaHonoursUnitsAndNames) {
+  test::TempDir dir;
+  const TriangleMesh mesh = LoadMesh(dir.Write("cube.dae", kCubeDae));
+  ExpectUnitCube(mesh);
+  EXPECT_EQ(mesh.part_names, std::vector<std::string>{"fairing"});
+}
+
+// Every bad file must raise LoadError whose message names the file and says what is wrong.
+void ExpectLoadError(const std::string& path, const std::string& reason_fragment) {
+  try {
+    LoadMesh(path);
+    ADD_FAILURE() << "loaded " << path;
+  } catch (const LoadError& e) {
+    EXPECT_EQ(e.path(), path);
+    EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
+    EXPECT_NE(e.reason().find(reason_fragment), std::string::npos) << e.what();
+  }
+}
+
+TEST(LoadMeshErrors, MissingFile) {
+  test::TempDir dir;
+  ExpectLoadError(dir.Path("nowhere.stl"), "No such file");
+}
+
+TEST(LoadMeshErrors, EmptyFile) {
+  test::TempDir dir;
+  ExpectLoadError(dir.Write("empty.obj", ""), "empty");
+}
+
+TEST(LoadMeshErrors, Directory) {
+  test::TempDir dir;
+  ExpectLoadError(dir.Path(""), "directory");
+}
+
+TEST(LoadMeshErrors, NotAMesh) {
+  test::TempDir dir;
+  ExpectLoadError(dir.Write("notes.txt", "These are meeting notes, not a mesh.\n"),
+                  "not a readable mesh");
+  ExpectLoadError(dir.Write("picture.png", std::string("\x89PNG\r\n\x1a\n\0\0\0\rIHDR", 16)),
+                  "not a readable mesh");
+  // OBJ readers skip lines they do not know, so prose with an .obj name parses to nothing.
+  ExpectLoadError(dir.Write("prose.obj", "hello world\nthis is not geometry\n"), "mNumMeshes is 0");
+  // Points only: a mesh file, but nothing to build surfaces from.
+  ExpectLoadError(dir.Write("points.ply",
+                            "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\n"
+                            "property float y\nproperty float z\nend_header\n0 0 0\n1 1 1\n"),
+                  "");
+}
+
+TEST(LoadMeshErrors, MalformedFiles) {
+  test::TempDir dir;
+  const TriangleMesh cube = MakeBox({1.0, 1.0, 1.0});
+  // Binary STL announcing 12 facets but holding 5 (a truncated download).
+  ExpectLoadError(dir.Write("truncated.stl", BinaryStl(cube, 12, 5)), "not a readable mesh");
+  // OBJ face referring to a vertex that does not exist.
+  ExpectLoadError(dir.Write("bad_index.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n"),
+                  "out of range");
+  // COLLADA cut off mid-document.
+  const std::string dae(kCubeDae);
+  ExpectLoadError(dir.Write("cut.dae", dae.substr(0, dae.size() / 2)), "not a readable mesh");
+  // PLY whose header promises more vertices than follow.
+  ExpectLoadError(dir.Write("short.ply", std::string(kCubePly).substr(0, 200)), "");
+}
+
+}  // namespace
+}  // namespace aar_geometry
