@@ -5,6 +5,9 @@
 #include <fstream>
 #include <stdexcept>
 
+#include <gtest/gtest.h>
+
+#include "aar_geometry/load_error.h"
 #include "aar_geometry/primitives.h"
 
 namespace aar_geometry::test {
@@ -44,6 +47,18 @@ TriangleMesh UnsharedCube() {
     out.triangle_parts.push_back(0);
   }
   return out;
+}
+
+void ExpectLoadError(const std::function<void(const std::string&)>& load, const std::string& path,
+                     const std::string& fragment) {
+  try {
+    load(path);
+    ADD_FAILURE() << "loaded " << path;
+  } catch (const LoadError& e) {
+    EXPECT_EQ(e.path(), path);
+    EXPECT_EQ(std::string(e.what()).rfind(path + ": ", 0), 0u) << e.what();
+    EXPECT_NE(e.reason().find(fragment), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace aar_geometry::test

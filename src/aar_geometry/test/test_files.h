@@ -1,5 +1,6 @@
 #pragma once
 
+#include <functional>
 #include <string>
 
 #include "aar_geometry/triangle_mesh.h"
@@ -28,5 +29,10 @@ std::string DataPath(const std::string& name);
 // Unit cube centred at the origin as six faces of two triangles each, the vertices of every
 // triangle its own (36), as STL and many exporters store meshes.
 TriangleMesh UnsharedCube();
+
+// Expects `load(path)` to throw LoadError for `path` whose message names the file and contains
+// `fragment`.
+void ExpectLoadError(const std::function<void(const std::string&)>& load, const std::string& path,
+                     const std::string& fragment);
 
 }  // namespace aar_geometry::test
