@@ -58,4 +58,16 @@ TriangleAdjacency BuildAdjacency(const TriangleMesh& mesh) {
   return adjacency;
 }
 
+bool IsConvex(const TriangleMesh& mesh, double tolerance) {
+  for (size_t t = 0; t < mesh.triangles.size(); ++t) {
+    const Eigen::Vector3d n = mesh.TriangleNormal(static_cast<int>(t));
+    if (n.isZero()) continue;
+    const double offset = n.dot(mesh.vertices[mesh.triangles[t][0]]);
+    for (const auto& v : mesh.vertices) {
+      if (n.dot(v) - offset > tolerance) return false;
+    }
+  }
+  return true;
+}
+
 }  // namespace aar_geometry

@@ -1,5 +1,9 @@
 #include "aar_geometry/mesh_io.h"
 
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 #include <assimp/Importer.hpp>
@@ -100,6 +104,29 @@ TriangleMesh LoadMesh(const std::string& path) {
     throw LoadError(path, e.what());
   }
   return mesh;
+}
+
+void WriteObj(const std::string& path, const TriangleMesh& mesh, const std::string& comment) {
+  mesh.Validate();
+  std::ofstream out(path);
+  if (!out) throw LoadError(path, "cannot be written");
+  std::istringstream lines(comment);
+  for (std::string line; std::getline(lines, line);) out << "# " << line << "\n";
+  char buffer[128];
+  for (const auto& v : mesh.vertices) {
+    std::snprintf(buffer, sizeof(buffer), "v %.6f %.6f %.6f\n", v.x(), v.y(), v.z());
+    out << buffer;
+  }
+  // Faces grouped by part, parts in their order, so each part is one OBJ object.
+  for (size_t p = 0; p < mesh.part_names.size(); ++p) {
+    out << "o " << mesh.part_names[p] << "\n";
+    for (size_t t = 0; t < mesh.triangles.size(); ++t) {
+      if (mesh.triangle_parts[t] != static_cast<int>(p)) continue;
+      const auto& f = mesh.triangles[t];
+      out << "f " << f[0] + 1 << ' ' << f[1] + 1 << ' ' << f[2] + 1 << "\n";
+    }
+  }
+  if (!out) throw LoadError(path, "write failed");
 }
 
 }  // namespace aar_geometry

@@ -211,13 +211,19 @@ RobotModel LoadRobotModel(const std::string& path, const RobotModelOptions& opti
   std::ifstream file(path);
   std::stringstream xml;
   xml << file.rdbuf();
+  return ParseRobotModel(xml.str(), path, fs::absolute(fs::path(path)).parent_path().string(),
+                         options);
+}
 
+RobotModel ParseRobotModel(const std::string& xml, const std::string& path,
+                           const std::string& base_dir, const RobotModelOptions& options) {
+  if (xml.find_first_not_of(" \t\r\n") == std::string::npos) throw LoadError(path, "URDF is empty");
   urdf::ModelInterfaceSharedPtr urdf;
   std::string parse_messages;
   {
     CapturedConsole console;
     try {
-      urdf = urdf::parseURDF(xml.str());
+      urdf = urdf::parseURDF(xml);
     } catch (const std::exception& e) {
       throw LoadError(path, std::string("not a valid URDF: ") + e.what());
     }
@@ -229,7 +235,7 @@ RobotModel LoadRobotModel(const std::string& path, const RobotModelOptions& opti
   }
   if (!urdf->getRoot()) throw LoadError(path, "URDF has no root link");
 
-  const fs::path urdf_dir = fs::absolute(fs::path(path)).parent_path();
+  const fs::path urdf_dir(base_dir);
   RobotModel model;
   model.name = urdf->getName();
   model.root_link = urdf->getRoot()->name;

@@ -88,6 +88,19 @@ TEST(Adjacency, FlippedTriangleIsInconsistent) {
   EXPECT_FALSE(adjacency.closed());
 }
 
+TEST(Convexity, PrimitivesAreConvexAnLShapeIsNot) {
+  EXPECT_TRUE(IsConvex(MakeBox({1.0, 2.0, 3.0})));
+  EXPECT_TRUE(IsConvex(MakeCylinder(0.3, 2.0, 24)));
+  EXPECT_TRUE(IsConvex(MakeSphere(0.5, 2)));
+  TriangleMesh l_shape = MakeBox({2.0, 1.0, 1.0});
+  l_shape.Append(MakeBox({1.0, 1.0, 2.0}), Eigen::Isometry3d(Eigen::Translation3d(0.5, 0.0, 1.0)));
+  EXPECT_FALSE(IsConvex(l_shape));
+  // Inside-out (inward normals): every other vertex is "outside" each face.
+  TriangleMesh inverted = MakeBox({1.0, 1.0, 1.0});
+  for (auto& t : inverted.triangles) std::swap(t[1], t[2]);
+  EXPECT_FALSE(IsConvex(inverted));
+}
+
 TEST(Adjacency, RejectsOutOfRangeIndices) {
   TriangleMesh bad = MakeBox({1.0, 1.0, 1.0});
   bad.triangles[0][2] = 99;

@@ -122,6 +122,18 @@ void ExpectLoadError(const std::string& path, const std::string& fragment) {
   test::ExpectLoadError([](const std::string& p) { LoadRobotModel(p); }, path, fragment);
 }
 
+TEST(RobotModel, ParsesTextWithMeshesRelativeToBaseDir) {
+  const std::string xml = R"(<robot name="r"><link name="a">
+    <visual><geometry><mesh filename="cube.stl" scale="2 2 2"/></geometry></visual></link></robot>)";
+  const RobotModel model = ParseRobotModel(xml, "robot_description", test::DataPath(""));
+  EXPECT_TRUE(
+      model.FindLink("a")->visuals[0].mesh.Bounds().max().isApprox(Eigen::Vector3d::Ones()));
+  test::ExpectLoadError([](const std::string& source) { ParseRobotModel("", source, "."); },
+                        "robot_description", "empty");
+  test::ExpectLoadError([](const std::string& source) { ParseRobotModel("<robot/>", source, "."); },
+                        "robot_description", "not a valid URDF");
+}
+
 TEST(RobotModelErrors, MissingEmptyAndNotXml) {
   test::TempDir dir;
   ExpectLoadError(dir.Path("absent.urdf"), "No such file");

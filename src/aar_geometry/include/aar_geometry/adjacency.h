@@ -35,4 +35,9 @@ struct TriangleAdjacency {
 // not share vertices.
 TriangleAdjacency BuildAdjacency(const TriangleMesh& mesh);
 
+// True when no vertex lies more than `tolerance` [m] outside the plane of any non-degenerate
+// triangle: for a closed, outward-wound mesh, that it bounds a convex volume (what point
+// inclusion by planes needs).
+bool IsConvex(const TriangleMesh& mesh, double tolerance = 1e-6);
+
 }  // namespace aar_geometry

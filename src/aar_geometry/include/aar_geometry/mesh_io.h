@@ -14,4 +14,8 @@ namespace aar_geometry {
 // that holds no triangles.
 TriangleMesh LoadMesh(const std::string& path);
 
+// Writes a Wavefront OBJ with one object ("o <part>") per part, vertices with 6 decimals [m],
+// which LoadMesh reads back with the same parts. Throws LoadError if the file cannot be written.
+void WriteObj(const std::string& path, const TriangleMesh& mesh, const std::string& comment = "");
+
 }  // namespace aar_geometry

@@ -65,6 +65,11 @@ struct RobotModelOptions {
 // not load.
 RobotModel LoadRobotModel(const std::string& path, const RobotModelOptions& options = {});
 
+// The same from URDF text, e.g. the robot_description parameter. `source` names it in errors;
+// relative mesh paths resolve against `base_dir`.
+RobotModel ParseRobotModel(const std::string& xml, const std::string& source,
+                           const std::string& base_dir, const RobotModelOptions& options = {});
+
 // T_root_link for every link at the given joint positions ([rad] or [m]); joints not listed stay
 // at 0 (floating and planar joints are held at their origin). Throws std::invalid_argument for a
 // name that is not a movable joint of the model, or a value that is not finite.

@@ -1,0 +1,37 @@
+#pragma once
+
+#include <map>
+#include <string>
+
+#include <aar_geometry/triangle_mesh.h>
+
+#include "aar_sim/flight_path.h"
+
+namespace aar_sim {
+
+// KC-10 class refueling boom. Links: boom_pivot (fixed to the tanker under its tail) ->
+// boom_gimbal (joint boom_roll, about the tanker's x axis, +/-15 deg) -> boom (joint boom_pitch,
+// positive = down from horizontal, 20 to 40 deg) -> telescope (joint boom_extension, 0 to 6 m
+// along the boom) -> nozzle_tip (fixed). At zero joint positions every link frame is aligned with
+// the tanker frame and the boom points aft along -x. The fixed tube runs 8.5 m from the pivot
+// (0.5 to 0.6 m across); the telescope and nozzle reach 10.85 m plus the extension.
+struct BoomModelOptions {
+  Eigen::Vector3d pivot_in_tanker{-21.5, 0.0, -3.3};  // [m] under the tanker's tail
+  int segments = 32;                                  // facets around the visual tubes
+};
+
+// Static boom pose when a flight path has no boom columns: 30 deg down, centred, 1 m out.
+BoomPose DefaultBoomPose();
+
+// The URDF text; visual meshes are referenced as `mesh_uri_prefix` + "boom_visual.obj" and
+// "telescope_visual.obj" (e.g. "package://aar_sim/models/").
+std::string MakeBoomUrdf(const BoomModelOptions& options, const std::string& mesh_uri_prefix);
+
+// Detailed visual geometry of link "boom" or "telescope" in that link's frame, parts named.
+aar_geometry::TriangleMesh MakeBoomVisualMesh(const std::string& link,
+                                              const BoomModelOptions& options);
+
+// Joint positions for aar_geometry::ComputeLinkPoses and joint_states.
+std::map<std::string, double> BoomJointPositions(const BoomPose& pose);
+
+}  // namespace aar_sim
