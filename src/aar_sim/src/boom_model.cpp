@@ -93,7 +93,7 @@ void AppendRuddevator(TriangleMesh& mesh, const std::string& part, double side) 
 
 }  // namespace
 
-BoomPose DefaultBoomPose() { return BoomPose{DegToRad(30.0), 0.0, 1.0}; }
+BoomPose DefaultBoomPose() { return BoomPose{DegToRad(30.0), 0.0, 0.5}; }
 
 std::map<std::string, double> BoomJointPositions(const BoomPose& pose) {
   return {{"boom_pitch", pose.pitch}, {"boom_roll", pose.roll}, {"boom_extension", pose.extension}};

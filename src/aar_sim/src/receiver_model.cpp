@@ -105,7 +105,7 @@ void AppendPropeller(TriangleMesh& mesh, const std::string& part, double side) {
 
 }  // namespace
 
-Eigen::Vector3d ReceptacleInReceiver() { return {3.0, 0.0, 0.91}; }
+Eigen::Vector3d ReceptacleInReceiver() { return {-0.3, 0.0, 0.93}; }
 
 TriangleMesh MakeReceiverMesh(const ReceiverModelOptions& o) {
   TriangleMesh mesh;

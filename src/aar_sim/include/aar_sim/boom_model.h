@@ -16,11 +16,13 @@ namespace aar_sim {
 // the tanker frame and the boom points aft along -x. The fixed tube runs 8.5 m from the pivot
 // (0.5 to 0.6 m across); the telescope and nozzle reach 10.85 m plus the extension.
 struct BoomModelOptions {
-  Eigen::Vector3d pivot_in_tanker{-21.5, 0.0, -3.3};  // [m] under the tanker's tail
-  int segments = 32;                                  // facets around the visual tubes
+  // [m] under the tanker's tail, 5.5 m behind the cameras: far enough that the boom's near end
+  // does not hide a distant receiver.
+  Eigen::Vector3d pivot_in_tanker{-25.5, 0.0, -3.6};
+  int segments = 32;  // facets around the visual tubes
 };
 
-// Static boom pose when a flight path has no boom columns: 30 deg down, centred, 1 m out.
+// Static boom pose when a flight path has no boom columns: 30 deg down, centred, 0.5 m out.
 BoomPose DefaultBoomPose();
 
 // The URDF text; visual meshes are referenced as `mesh_uri_prefix` + "boom_visual.obj" and

@@ -25,7 +25,8 @@ struct ReceiverModelOptions {
 // edges are where parts meet (a wing root inside the fuselage, say).
 aar_geometry::TriangleMesh MakeReceiverMesh(const ReceiverModelOptions& options = {});
 
-// Refueling receptacle on the upper fuselage behind the cockpit, in the receiver frame [m].
+// Refueling receptacle on the upper fuselage above the wing root (as on UAV-class receivers), in
+// the receiver frame [m].
 Eigen::Vector3d ReceptacleInReceiver();
 
 }  // namespace aar_sim

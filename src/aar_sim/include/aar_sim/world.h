@@ -1,0 +1,59 @@
+#pragma once
+
+#include <map>
+#include <string>
+#include <vector>
+
+#include <aar_geometry/robot_model.h>
+
+#include "aar_sim/flight_path.h"
+#include "aar_sim/renderer.h"
+
+namespace aar_sim {
+
+struct WorldOptions {
+  std::string receiver_mesh;  // receiver OBJ (parts labelled), receiver frame
+  std::string boom_urdf;      // boom URDF; its root link is the tanker frame
+  aar_geometry::RobotModelOptions urdf;
+  StereoRig rig;             // its intrinsics are the renderer's
+  RendererOptions renderer;  // intrinsics are taken from the rig
+  bool boom_visible = true;
+};
+
+// One rendered stereo pair with the truth that produced it.
+struct StereoFrame {
+  RenderedView left, right;
+  Eigen::Isometry3d T_tanker_receiver = Eigen::Isometry3d::Identity();
+  BoomPose boom;
+  std::map<std::string, Eigen::Isometry3d> T_tanker_links;  // boom links
+};
+
+// The virtual world: receiver and boom models, the stereo rig and the renderer.
+class World {
+ public:
+  // Throws aar_geometry::LoadError for a model that does not load, RenderError without EGL.
+  explicit World(const WorldOptions& options);
+
+  StereoFrame Render(const FlightPathRow& row, const BoomPose& boom, uint64_t frame_index,
+                     bool want_label = false, bool want_depth = false);
+
+  const WorldOptions& options() const { return options_; }
+  const aar_geometry::TriangleMesh& receiver_mesh() const { return receiver_; }
+  const aar_geometry::RobotModel& boom_model() const { return boom_; }
+  Renderer& renderer() { return renderer_; }
+
+ private:
+  struct BoomElement {
+    int mesh;
+    std::string link;
+    Eigen::Isometry3d T_link_geometry;
+  };
+  WorldOptions options_;
+  aar_geometry::TriangleMesh receiver_;
+  aar_geometry::RobotModel boom_;
+  Renderer renderer_;
+  int receiver_handle_ = -1;
+  std::vector<BoomElement> boom_elements_;
+};
+
+}  // namespace aar_sim

@@ -1,0 +1,186 @@
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include <aar_geometry/weld.h>
+
+#include "aar_sim/boom_model.h"
+#include "aar_sim/world.h"
+
+namespace aar_sim {
+namespace {
+
+WorldOptions TestWorld(bool boom_visible, double noise = 0.0) {
+  WorldOptions o;
+  const std::string models = std::string(AAR_SIM_SOURCE_DIR) + "/models";
+  o.receiver_mesh = models + "/receiver.obj";
+  o.boom_urdf = models + "/boom.urdf";
+  o.urdf.package_paths = {std::filesystem::path(AAR_SIM_SOURCE_DIR).parent_path().string()};
+  o.rig = MakeStereoRig(CameraIntrinsics::FromHorizontalFov(640, 480, 60.0), 0.5);
+  o.renderer.noise_stddev = noise;
+  o.boom_visible = boom_visible;
+  return o;
+}
+
+FlightPathRow Receiver(double x, double y, double z, double yaw_deg) {
+  FlightPathRow row;
+  row.position_m = {x, y, z};
+  row.rpy = {0.0, aar_geometry::DegToRad(-2.0), aar_geometry::DegToRad(yaw_deg)};
+  return row;
+}
+
+// The receiver's vertices projected with the camera model land on receiver pixels of the label
+// image, and the label's extent matches their extent within 2 px. Vertices are checked where the
+// geometry is resolvable: a vertex of a triangle whose projection is at least 1 px thick (a tail
+// seen edge-on at 150 m is thinner than a pixel and covers no pixel centre, as GL specifies).
+void CheckProjection(World& world, const FlightPathRow& row, int min_checked) {
+  const StereoFrame frame = world.Render(row, DefaultBoomPose(), 0, true, true);
+  const StereoRig& rig = world.options().rig;
+  const CameraIntrinsics& k = rig.intrinsics;
+  const aar_geometry::TriangleMesh& mesh = world.receiver_mesh();
+  for (int camera = 0; camera < 2; ++camera) {
+    SCOPED_TRACE(camera == 0 ? "left" : "right");
+    const RenderedView& view = camera == 0 ? frame.left : frame.right;
+    const Eigen::Isometry3d T_optical_receiver =
+        (camera == 0 ? rig.T_tanker_left_optical : rig.T_tanker_right_optical()).inverse() *
+        frame.T_tanker_receiver;
+    std::vector<Eigen::Vector2d> px(mesh.vertices.size());
+    double umin = 1e9, umax = -1e9, vmin = 1e9, vmax = -1e9;
+    for (size_t i = 0; i < mesh.vertices.size(); ++i) {
+      px[i] = k.Project(T_optical_receiver * mesh.vertices[i]);
+      umin = std::min(umin, px[i].x()), umax = std::max(umax, px[i].x());
+      vmin = std::min(vmin, px[i].y()), vmax = std::max(vmax, px[i].y());
+    }
+    std::vector<bool> resolvable(mesh.vertices.size(), false);
+    for (const auto& t : mesh.triangles) {
+      const Eigen::Vector2d a = px[t[1]] - px[t[0]], b = px[t[2]] - px[t[0]],
+                            c = px[t[2]] - px[t[1]];
+      const double longest = std::max({a.norm(), b.norm(), c.norm()});
+      const double thickness =
+          std::abs(a.x() * b.y() - a.y() * b.x()) / longest;  // smallest altitude
+      if (thickness >= 1.0) resolvable[t[0]] = resolvable[t[1]] = resolvable[t[2]] = true;
+    }
+    int checked = 0, off_receiver = 0;
+    for (size_t i = 0; i < mesh.vertices.size(); ++i) {
+      const int u = static_cast<int>(std::lround(px[i].x())),
+                w = static_cast<int>(std::lround(px[i].y()));
+      if (!resolvable[i] || u < 1 || w < 1 || u >= k.width - 1 || w >= k.height - 1) continue;
+      ++checked;
+      bool hit = false;  // a vertex on a silhouette may fall half a pixel outside the raster
+      for (int du = -1; du <= 1; ++du)
+        for (int dv = -1; dv <= 1; ++dv)
+          hit |= view.label.at(u + du, w + dv) == static_cast<uint8_t>(Label::kReceiver);
+      off_receiver += !hit;
+    }
+    EXPECT_GE(checked, min_checked);
+    EXPECT_EQ(off_receiver, 0) << "of " << checked << " vertices";
+    std::printf("[ projection ] range %.0f m, %s camera: %d resolvable vertices checked\n",
+                row.position_m.norm(), camera == 0 ? "left" : "right", checked);
+    int lumin = k.width, lumax = -1, lvmin = k.height, lvmax = -1;
+    for (int w = 0; w < k.height; ++w)
+      for (int u = 0; u < k.width; ++u)
+        if (view.label.at(u, w) == static_cast<uint8_t>(Label::kReceiver)) {
+          lumin = std::min(lumin, u), lumax = std::max(lumax, u);
+          lvmin = std::min(lvmin, w), lvmax = std::max(lvmax, w);
+          EXPECT_GT(view.depth.at(u, w), 0.0f);
+        }
+    EXPECT_NEAR(lumin, umin, 2.0);
+    EXPECT_NEAR(lumax, umax, 2.0);
+    EXPECT_NEAR(lvmin, vmin, 2.0);
+    EXPECT_NEAR(lvmax, vmax, 2.0);
+  }
+}
+
+TEST(Renderer, LabelMatchesProjectedVerticesNearAndFar) {
+  WorldOptions options = TestWorld(false);
+  options.rig = MakeStereoRig(CameraIntrinsics::FromHorizontalFov(1280, 960, 60.0), 0.5);
+  World world(options);
+  CheckProjection(world, Receiver(-36.0, 0.0, -10.5, 0.0), 5000);
+  CheckProjection(world, Receiver(-60.0, 3.0, -18.0, 8.0), 1000);
+  CheckProjection(world, Receiver(-150.0, -4.0, -40.0, -5.0), 10);
+}
+
+TEST(Renderer, DepthIsOpticalZ) {
+  World world(TestWorld(false));
+  const FlightPathRow row = Receiver(-40.0, 0.0, -12.0, 0.0);
+  const StereoFrame frame = world.Render(row, DefaultBoomPose(), 0, true, true);
+  // The nose tip is the receiver's point nearest to the camera along its line of sight: the
+  // depth at its pixel is within 5 cm of its optical z.
+  const Eigen::Vector3d nose = world.options().rig.T_tanker_left_optical.inverse() *
+                               frame.T_tanker_receiver * Eigen::Vector3d(5.98, 0.0, -0.1);
+  const Eigen::Vector2d px = world.options().rig.intrinsics.Project(nose);
+  EXPECT_NEAR(frame.left.depth.at(std::lround(px.x()), std::lround(px.y())), nose.z(), 0.05);
+  EXPECT_EQ(frame.left.depth.at(0, world.options().rig.intrinsics.height - 1), 0.0f);  // sky
+}
+
+TEST(Renderer, SameFrameTwiceIsBitIdentical) {
+  World world(TestWorld(true, 2.0));
+  const FlightPathRow row = Receiver(-45.0, 1.0, -13.0, 3.0);
+  const StereoFrame a = world.Render(row, DefaultBoomPose(), 17, true, true);
+  const StereoFrame b = world.Render(row, DefaultBoomPose(), 17, true, true);
+  EXPECT_EQ(a.left.image.data, b.left.image.data);
+  EXPECT_EQ(a.right.image.data, b.right.image.data);
+  EXPECT_EQ(a.left.label.data, b.left.label.data);
+  EXPECT_EQ(a.left.depth.data, b.left.depth.data);
+  // A second world (a fresh context) renders the same bits too.
+  World other(TestWorld(true, 2.0));
+  EXPECT_EQ(other.Render(row, DefaultBoomPose(), 17).left.image.data, a.left.image.data);
+  // Another frame index draws other noise; the noise has the configured spread.
+  const StereoFrame c = world.Render(row, DefaultBoomPose(), 18);
+  ASSERT_NE(c.left.image.data, a.left.image.data);
+  double sum = 0, sum2 = 0;
+  int n = 0;
+  for (size_t i = 0; i < a.left.image.data.size(); ++i) {
+    if (a.left.label.data[i] != static_cast<uint8_t>(Label::kBackground)) continue;  // flat sky
+    const double d = static_cast<double>(a.left.image.data[i]) - c.left.image.data[i];
+    sum += d, sum2 += d * d, ++n;
+  }
+  EXPECT_NEAR(std::sqrt(sum2 / n - (sum / n) * (sum / n)), 2.0 * std::sqrt(2.0), 0.1);
+}
+
+TEST(Renderer, BoomOccludesAndIsLabelled) {
+  World with(TestWorld(true)), without(TestWorld(false));
+  const FlightPathRow row = Receiver(-35.0, 0.0, -10.3, 0.0);
+  const StereoFrame a = with.Render(row, DefaultBoomPose(), 0, true);
+  const StereoFrame b = without.Render(row, DefaultBoomPose(), 0, true);
+  auto count = [](const Image<uint8_t>& label, Label l) {
+    return std::count(label.data.begin(), label.data.end(), static_cast<uint8_t>(l));
+  };
+  EXPECT_GT(count(a.left.label, Label::kBoom), 1000);
+  EXPECT_EQ(count(b.left.label, Label::kBoom), 0);
+  EXPECT_LT(count(a.left.label, Label::kReceiver), count(b.left.label, Label::kReceiver));
+}
+
+TEST(Renderer, RightCameraSeesTheSceneShiftedByTheDisparity) {
+  World world(TestWorld(false));
+  const FlightPathRow row = Receiver(-40.0, 0.0, -12.0, 0.0);
+  const StereoFrame frame = world.Render(row, DefaultBoomPose(), 0, true, true);
+  // Rectified pair: a point at depth z appears f * b / z pixels further left in the right image,
+  // on the same row.
+  const StereoRig& rig = world.options().rig;
+  const Eigen::Vector3d p =
+      rig.T_tanker_left_optical.inverse() * frame.T_tanker_receiver * Eigen::Vector3d(0, 0, 0.9);
+  const Eigen::Vector2d left = rig.intrinsics.Project(p);
+  const Eigen::Vector2d right = rig.intrinsics.Project(rig.T_tanker_right_optical().inverse() *
+                                                       rig.T_tanker_left_optical * p);
+  EXPECT_NEAR(left.y(), right.y(), 1e-9);
+  EXPECT_NEAR(left.x() - right.x(), rig.intrinsics.fx * rig.baseline / p.z(), 1e-9);
+}
+
+TEST(Renderer, MissingModelsAndBadIntrinsicsFailClearly) {
+  WorldOptions o = TestWorld(true);
+  o.receiver_mesh = "/nonexistent/receiver.obj";
+  try {
+    World world(o);
+    ADD_FAILURE();
+  } catch (const std::exception& e) {
+    EXPECT_NE(std::string(e.what()).find("/nonexistent/receiver.obj"), std::string::npos)
+        << e.what();
+  }
+  RendererOptions bad;
+  bad.intrinsics.width = 0;
+  EXPECT_THROW(Renderer{bad}, RenderError);
+}
+
+}  // namespace
+}  // namespace aar_sim

@@ -1,0 +1,49 @@
+// render_frame: renders one stereo pair of a flight path to PGM files, for looking at the world.
+//   render_frame FLIGHT_PATH TIME_S OUT_PREFIX [--no-boom]
+#include <fstream>
+#include <iostream>
+
+#include "aar_sim/boom_model.h"
+#include "aar_sim/world.h"
+
+namespace {
+
+void WritePgm(const std::string& path, const aar_sim::Image<uint8_t>& image, int scale = 1) {
+  std::ofstream out(path, std::ios::binary);
+  out << "P5\n" << image.width << " " << image.height << "\n255\n";
+  for (uint8_t v : image.data) out.put(static_cast<char>(v * scale));
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 4) {
+    std::cerr << "usage: render_frame FLIGHT_PATH TIME_S OUT_PREFIX [--no-boom]\n";
+    return 2;
+  }
+  try {
+    aar_sim::WorldOptions options;
+    const std::string models = std::string(AAR_SIM_SOURCE_DIR) + "/models";
+    options.receiver_mesh = models + "/receiver.obj";
+    options.boom_urdf = models + "/boom.urdf";
+    options.urdf.package_paths = {std::string(AAR_SIM_SOURCE_DIR) + "/.."};
+    options.rig =
+        aar_sim::MakeStereoRig(aar_sim::CameraIntrinsics::FromHorizontalFov(1280, 960, 60.0), 0.5);
+    options.boom_visible = !(argc > 4 && std::string(argv[4]) == "--no-boom");
+    aar_sim::World world(options);
+    const auto path = aar_sim::FlightPath::Load(argv[1]);
+    const auto row = path.At(std::stod(argv[2]));
+    const auto frame =
+        world.Render(row, row.boom.value_or(aar_sim::DefaultBoomPose()), 0, true, false);
+    const std::string prefix = argv[3];
+    WritePgm(prefix + "_left.pgm", frame.left.image);
+    WritePgm(prefix + "_right.pgm", frame.right.image);
+    WritePgm(prefix + "_label.pgm", frame.left.label, 100);
+    std::cout << "range " << row.position_m.norm() << " m, renderer "
+              << world.renderer().gl_renderer() << "\n";
+  } catch (const std::exception& e) {
+    std::cerr << "render_frame: " << e.what() << "\n";
+    return 1;
+  }
+  return 0;
+}
