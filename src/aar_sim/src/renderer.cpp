@@ -128,6 +128,38 @@ GLuint Compile(GLenum type, const char* source) {
   return shader;
 }
 
+// Inverse of the standard normal CDF (Acklam's rational approximation, relative error < 1.2e-9).
+double NormalQuantile(double p) {
+  static const double a[] = {-3.969683028665376e+01, 2.209460984245205e+02, -2.759285104469687e+02,
+                             1.383577518672690e+02, -3.066479806614716e+01, 2.506628277459239e+00};
+  static const double b[] = {-5.447609879822406e+01, 1.615858368580409e+02, -1.556989798598866e+02,
+                             6.680131188771972e+01, -1.328068155288572e+01};
+  static const double c[] = {-7.784894002430293e-03, -3.223964580411365e-01, -2.400758277161838e+00,
+                             -2.549732539343734e+00, 4.374664141464968e+00, 2.938163982698783e+00};
+  static const double d[] = {7.784695709041462e-03, 3.224671290700398e-01, 2.445134137142996e+00,
+                             3.754408661907416e+00};
+  if (p < 0.02425) {
+    const double q = std::sqrt(-2.0 * std::log(p));
+    return (((((c[0] * q + c[1]) * q + c[2]) * q + c[3]) * q + c[4]) * q + c[5]) /
+           ((((d[0] * q + d[1]) * q + d[2]) * q + d[3]) * q + 1.0);
+  }
+  if (p > 1.0 - 0.02425) return -NormalQuantile(1.0 - p);
+  const double q = p - 0.5, r = q * q;
+  return (((((a[0] * r + a[1]) * r + a[2]) * r + a[3]) * r + a[4]) * r + a[5]) * q /
+         (((((b[0] * r + b[1]) * r + b[2]) * r + b[3]) * r + b[4]) * r + 1.0);
+}
+
+// Standard normal samples indexed by 16 random bits: 65536 equiprobable quantiles (tails cut at
+// 4.3 sigma). Four pixels per 64-bit draw; Box-Muller per pixel cost 45 ms a 1280x960 view.
+const std::vector<float>& NormalTable() {
+  static const std::vector<float> table = [] {
+    std::vector<float> t(65536);
+    for (size_t i = 0; i < t.size(); ++i) t[i] = static_cast<float>(NormalQuantile((i + 0.5) / 65536.0));
+    return t;
+  }();
+  return table;
+}
+
 void CheckGl(const char* what) {
   const GLenum e = glGetError();
   if (e != GL_NO_ERROR)
@@ -380,16 +412,14 @@ RenderedView Renderer::Render(const Eigen::Isometry3d& T_tanker_optical,
 
   if (options_.noise_stddev > 0.0) {
     // One stream per (seed, view): reproducible whatever order views are rendered in.
-    std::mt19937_64 rng(options_.noise_seed * 0x9E3779B97F4A7C15ull ^
-                        (view_key + 1) * 0xD1B54A32D192ED03ull);
-    auto gaussian = [&rng]() {  // Box-Muller on the raw stream: identical on every platform
-      const double u1 = (static_cast<double>(rng() >> 11) + 1.0) * 0x1.0p-53;
-      const double u2 = static_cast<double>(rng() >> 11) * 0x1.0p-53;
-      return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * M_PI * u2);
-    };
-    for (auto& px : view.image.data) {
-      const double v = px + options_.noise_stddev * gaussian();
-      px = static_cast<uint8_t>(std::clamp(std::lround(v), 0L, 255L));
+    std::mt19937_64 rng(options_.noise_seed * 0x9E3779B97F4A7C15ull ^ (view_key + 1) * 0xD1B54A32D192ED03ull);
+    const std::vector<float>& normal = NormalTable();
+    const float sigma = static_cast<float>(options_.noise_stddev);
+    uint64_t bits = 0;
+    for (size_t i = 0; i < view.image.data.size(); ++i) {
+      if (i % 4 == 0) bits = rng();
+      const float v = view.image.data[i] + sigma * normal[(bits >> (16 * (i % 4))) & 0xffffu];
+      view.image.data[i] = static_cast<uint8_t>(std::clamp(std::lround(v), 0L, 255L));
     }
   }
   return view;
