@@ -130,12 +130,12 @@ GLuint Compile(GLenum type, const char* source) {
 
 // Inverse of the standard normal CDF (Acklam's rational approximation, relative error < 1.2e-9).
 double NormalQuantile(double p) {
-  static const double a[] = {-3.969683028665376e+01, 2.209460984245205e+02, -2.759285104469687e+02,
-                             1.383577518672690e+02, -3.066479806614716e+01, 2.506628277459239e+00};
+  static const double a[] = {-3.969683028665376e+01, 2.209460984245205e+02,  -2.759285104469687e+02,
+                             1.383577518672690e+02,  -3.066479806614716e+01, 2.506628277459239e+00};
   static const double b[] = {-5.447609879822406e+01, 1.615858368580409e+02, -1.556989798598866e+02,
                              6.680131188771972e+01, -1.328068155288572e+01};
   static const double c[] = {-7.784894002430293e-03, -3.223964580411365e-01, -2.400758277161838e+00,
-                             -2.549732539343734e+00, 4.374664141464968e+00, 2.938163982698783e+00};
+                             -2.549732539343734e+00, 4.374664141464968e+00,  2.938163982698783e+00};
   static const double d[] = {7.784695709041462e-03, 3.224671290700398e-01, 2.445134137142996e+00,
                              3.754408661907416e+00};
   if (p < 0.02425) {
@@ -154,7 +154,8 @@ double NormalQuantile(double p) {
 const std::vector<float>& NormalTable() {
   static const std::vector<float> table = [] {
     std::vector<float> t(65536);
-    for (size_t i = 0; i < t.size(); ++i) t[i] = static_cast<float>(NormalQuantile((i + 0.5) / 65536.0));
+    for (size_t i = 0; i < t.size(); ++i)
+      t[i] = static_cast<float>(NormalQuantile((i + 0.5) / 65536.0));
     return t;
   }();
   return table;
@@ -178,10 +179,27 @@ struct Renderer::Gl {
 
   void MakeCurrent() const {
     if (!eglMakeCurrent(display, EGL_NO_SURFACE, EGL_NO_SURFACE, context)) {
-      throw RenderError("eglMakeCurrent failed");
+      throw RenderError("eglMakeCurrent failed (EGL error " + std::to_string(eglGetError()) + ")");
     }
   }
 };
+
+namespace {
+
+// Binds the context for one call and releases it after, so that any thread may make the next
+// call (a context can be current on one thread only).
+class CurrentContext {
+ public:
+  explicit CurrentContext(const Renderer::Gl& gl) : display_(gl.display) { gl.MakeCurrent(); }
+  ~CurrentContext() { eglMakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT); }
+  CurrentContext(const CurrentContext&) = delete;
+  CurrentContext& operator=(const CurrentContext&) = delete;
+
+ private:
+  EGLDisplay display_;
+};
+
+}  // namespace
 
 namespace {
 
@@ -237,7 +255,7 @@ Renderer::Renderer(const RendererOptions& options)
     throw RenderError("no OpenGL 4.5 core context (EGL error " + std::to_string(eglGetError()) +
                       ")");
   }
-  gl_->MakeCurrent();
+  CurrentContext current(*gl_);
 
   const GLuint vs = Compile(GL_VERTEX_SHADER, kVertexShader);
   const GLuint fs = Compile(GL_FRAGMENT_SHADER, kFragmentShader);
@@ -297,13 +315,13 @@ Renderer::~Renderer() {
 }
 
 std::string Renderer::gl_renderer() const {
-  gl_->MakeCurrent();
+  CurrentContext current(*gl_);
   return reinterpret_cast<const char*>(glGetString(GL_RENDERER));
 }
 
 int Renderer::AddMesh(const aar_geometry::TriangleMesh& mesh, Label label, Surface surface) {
   mesh.Validate();
-  gl_->MakeCurrent();
+  CurrentContext current(*gl_);
   // Flat shading: every triangle gets its own three vertices with the face normal and part.
   std::vector<float> data;
   data.reserve(mesh.triangles.size() * 3 * 7);
@@ -344,7 +362,7 @@ RenderedView Renderer::Render(const Eigen::Isometry3d& T_tanker_optical,
                               const std::vector<DrawItem>& items, uint64_t view_key,
                               bool want_label, bool want_depth) {
   const CameraIntrinsics& k = options_.intrinsics;
-  gl_->MakeCurrent();
+  CurrentContext current(*gl_);
   glBindFramebuffer(GL_FRAMEBUFFER, gl_->framebuffer);
   const float sky[4] = {static_cast<float>(options_.sky_level / 255.0), 0, 0, 0};
   const GLuint background[4] = {static_cast<GLuint>(Label::kBackground), 0, 0, 0};
@@ -412,7 +430,8 @@ RenderedView Renderer::Render(const Eigen::Isometry3d& T_tanker_optical,
 
   if (options_.noise_stddev > 0.0) {
     // One stream per (seed, view): reproducible whatever order views are rendered in.
-    std::mt19937_64 rng(options_.noise_seed * 0x9E3779B97F4A7C15ull ^ (view_key + 1) * 0xD1B54A32D192ED03ull);
+    std::mt19937_64 rng(options_.noise_seed * 0x9E3779B97F4A7C15ull ^
+                        (view_key + 1) * 0xD1B54A32D192ED03ull);
     const std::vector<float>& normal = NormalTable();
     const float sigma = static_cast<float>(options_.noise_stddev);
     uint64_t bits = 0;

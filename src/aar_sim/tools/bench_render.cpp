@@ -10,8 +10,9 @@
 #include "aar_sim/world.h"
 
 int main(int argc, char** argv) {
-  const std::string path_file =
-      argc > 1 ? argv[1] : std::string(AAR_SIM_SOURCE_DIR) + "/../../config/flight_paths/approach_default.csv";
+  const std::string path_file = argc > 1 ? argv[1]
+                                         : std::string(AAR_SIM_SOURCE_DIR) +
+                                               "/../../config/flight_paths/approach_default.csv";
   const int pairs = argc > 2 ? std::stoi(argv[2]) : 20;
   try {
     aar_sim::WorldOptions options;
@@ -19,13 +20,16 @@ int main(int argc, char** argv) {
     options.receiver_mesh = models + "/receiver.obj";
     options.boom_urdf = models + "/boom.urdf";
     options.urdf.package_paths = {std::string(AAR_SIM_SOURCE_DIR) + "/.."};
-    options.rig = aar_sim::MakeStereoRig(aar_sim::CameraIntrinsics::FromHorizontalFov(1280, 960, 60.0), 0.5);
-    options.renderer.noise_stddev = std::getenv("AAR_BENCH_NOISE") ? std::stod(std::getenv("AAR_BENCH_NOISE")) : 2.0;
+    options.rig =
+        aar_sim::MakeStereoRig(aar_sim::CameraIntrinsics::FromHorizontalFov(1280, 960, 60.0), 0.5);
+    options.renderer.noise_stddev =
+        std::getenv("AAR_BENCH_NOISE") ? std::stod(std::getenv("AAR_BENCH_NOISE")) : 2.0;
     aar_sim::World world(options);
     const auto path = aar_sim::FlightPath::Load(path_file);
     std::printf("renderer: %s, %dx%d, %d pairs per point\n", world.renderer().gl_renderer().c_str(),
                 options.rig.intrinsics.width, options.rig.intrinsics.height, pairs);
-    std::printf("%10s %12s %16s %22s\n", "range [m]", "t [s]", "pairs/s (images)", "pairs/s (+label+depth)");
+    std::printf("%10s %12s %16s %22s\n", "range [m]", "t [s]", "pairs/s (images)",
+                "pairs/s (+label+depth)");
     for (double fraction : {0.0, 0.5, 0.8, 1.0}) {
       const double t = path.start_time() + fraction * (path.end_time() - path.start_time());
       const auto row = path.At(t);
@@ -33,8 +37,10 @@ int main(int argc, char** argv) {
       for (int extra = 0; extra < 2; ++extra) {
         world.Render(row, aar_sim::DefaultBoomPose(), 0, extra, extra);  // warm-up (shader JIT)
         const auto start = std::chrono::steady_clock::now();
-        for (int i = 0; i < pairs; ++i) world.Render(row, aar_sim::DefaultBoomPose(), i, extra, extra);
-        rate[extra] = pairs / std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        for (int i = 0; i < pairs; ++i)
+          world.Render(row, aar_sim::DefaultBoomPose(), i, extra, extra);
+        rate[extra] =
+            pairs / std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       }
       std::printf("%10.1f %12.1f %16.1f %22.1f\n", row.position_m.norm(), t, rate[0], rate[1]);
     }

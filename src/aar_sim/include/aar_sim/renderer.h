@@ -56,8 +56,8 @@ struct DrawItem {
 
 // Offscreen OpenGL 4.5 renderer through EGL: a GPU's EGL device where there is one, else Mesa's
 // surfaceless platform (llvmpipe), with no display server. Deterministic: the same inputs give
-// bit-identical images. Not thread-safe; each call makes its context current on the caller's
-// thread.
+// bit-identical images. Not thread-safe, but not tied to a thread: each call binds the context
+// on the caller's thread and releases it.
 class Renderer {
  public:
   explicit Renderer(const RendererOptions& options);  // throws RenderError
@@ -76,8 +76,10 @@ class Renderer {
   const RendererOptions& options() const { return options_; }
   std::string gl_renderer() const;  // e.g. "llvmpipe (LLVM 15.0.6, 256 bits)"
 
+ public:
+  struct Gl;  // EGL and GL state (renderer.cpp)
+
  private:
-  struct Gl;
   RendererOptions options_;
   std::unique_ptr<Gl> gl_;
 };

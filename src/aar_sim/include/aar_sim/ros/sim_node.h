@@ -1,0 +1,76 @@
+#pragma once
+
+#include <atomic>
+#include <condition_variable>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+
+#include <aar_msgs/PoseEstimate.h>
+#include <image_transport/image_transport.h>
+#include <ros/ros.h>
+#include <tf2_ros/static_transform_broadcaster.h>
+#include <tf2_ros/transform_broadcaster.h>
+
+#include "aar_sim/flight_path.h"
+#include "aar_sim/world.h"
+
+namespace aar_sim {
+
+struct SimNodeOptions {
+  std::string flight_path;            // required: the receiver's path (CSV)
+  WorldOptions world;                 // models, rig, renderer, boom visibility
+  double rate = 10.0;                 // [Hz] frames per second of path time
+  double start_time = 0.0;            // [s] path time of the first frame
+  int max_frames = 0;                 // 0: to the end of the path
+  bool lockstep = false;              // wait for /aar/pose_estimate of each frame before the next
+  double lockstep_timeout = 5.0;      // [s wall] then go on and count a miss
+  bool wait_for_subscribers = false;  // hold frame 0 until the left image has a subscriber
+  bool publish_labels =
+      false;  // also /stereo/{left,right}/label (mono8: 0 sky, 1 receiver, 2 boom)
+  bool shutdown_at_end = false;  // end the node after the last frame (experiments)
+  double stamp_offset = 1.0;     // [s] stamp = offset + path time; stamp 0 means "latest" to tf
+};
+
+// Reads ~parameters; throws std::invalid_argument naming a missing required parameter, a bad
+// value or an unknown parameter (a typo would otherwise be ignored silently).
+SimNodeOptions LoadSimNodeOptions(const ros::NodeHandle& private_nh);
+
+// Renders the flight path frame by frame and publishes images, camera infos, joint states, truth
+// tf and /clock with one stamp per frame.
+class SimNode {
+ public:
+  // Throws aar_geometry::LoadError (models, path) or RenderError (no EGL) before publishing.
+  SimNode(ros::NodeHandle nh, const SimNodeOptions& options);
+  ~SimNode();
+
+  void Start();  // starts the frame loop on its own thread
+  bool finished() const { return finished_; }
+
+ private:
+  void Run();
+  void PublishFrame(int index, const FlightPathRow& row, const BoomPose& boom,
+                    const StereoFrame& frame, const ros::Time& stamp);
+  void OnEstimate(const aar_msgs::PoseEstimate::ConstPtr& msg);
+
+  ros::NodeHandle nh_;
+  SimNodeOptions options_;
+  FlightPath path_;
+  std::unique_ptr<World> world_;
+  image_transport::ImageTransport it_;
+  image_transport::CameraPublisher left_pub_, right_pub_;
+  image_transport::Publisher left_label_pub_, right_label_pub_;
+  ros::Publisher joint_pub_, clock_pub_, marker_pub_;
+  ros::Subscriber estimate_sub_;
+  tf2_ros::TransformBroadcaster tf_;
+  tf2_ros::StaticTransformBroadcaster static_tf_;
+
+  std::mutex mutex_;
+  std::condition_variable estimate_arrived_;
+  ros::Time last_estimate_stamp_;
+  std::atomic<bool> stop_{false}, finished_{false};
+  std::thread thread_;
+};
+
+}  // namespace aar_sim

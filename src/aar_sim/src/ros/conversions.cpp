@@ -1,0 +1,52 @@
+#include "aar_sim/ros/conversions.h"
+
+#include <sensor_msgs/image_encodings.h>
+#include <boost/make_shared.hpp>
+
+namespace aar_sim {
+
+sensor_msgs::ImagePtr ToImageMsg(const Image<uint8_t>& image, const std_msgs::Header& header) {
+  auto msg = boost::make_shared<sensor_msgs::Image>();
+  msg->header = header;
+  msg->height = image.height;
+  msg->width = image.width;
+  msg->encoding = sensor_msgs::image_encodings::MONO8;
+  msg->is_bigendian = false;
+  msg->step = image.width;
+  msg->data = image.data;
+  return msg;
+}
+
+sensor_msgs::CameraInfoPtr ToCameraInfoMsg(const CameraIntrinsics& k, double Tx,
+                                           const std_msgs::Header& header) {
+  auto msg = boost::make_shared<sensor_msgs::CameraInfo>();
+  msg->header = header;
+  msg->height = k.height;
+  msg->width = k.width;
+  msg->distortion_model = "plumb_bob";
+  msg->D.assign(5, 0.0);
+  msg->K = {k.fx, 0.0, k.cx, 0.0, k.fy, k.cy, 0.0, 0.0, 1.0};
+  msg->R = {1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0};
+  msg->P = {k.fx, 0.0, k.cx, Tx, 0.0, k.fy, k.cy, 0.0, 0.0, 0.0, 1.0, 0.0};
+  return msg;
+}
+
+geometry_msgs::TransformStamped ToTransformMsg(const Eigen::Isometry3d& T, const ros::Time& stamp,
+                                               const std::string& parent,
+                                               const std::string& child) {
+  geometry_msgs::TransformStamped msg;
+  msg.header.stamp = stamp;
+  msg.header.frame_id = parent;
+  msg.child_frame_id = child;
+  msg.transform.translation.x = T.translation().x();
+  msg.transform.translation.y = T.translation().y();
+  msg.transform.translation.z = T.translation().z();
+  const Eigen::Quaterniond q(T.linear());
+  msg.transform.rotation.x = q.x();
+  msg.transform.rotation.y = q.y();
+  msg.transform.rotation.z = q.z();
+  msg.transform.rotation.w = q.w();
+  return msg;
+}
+
+}  // namespace aar_sim

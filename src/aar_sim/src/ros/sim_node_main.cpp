@@ -1,0 +1,22 @@
+// sim_node: the simulator as a standalone process. Exits non-zero, saying why, when the flight
+// path, a model or EGL is missing.
+#include <ros/ros.h>
+
+#include "aar_sim/ros/sim_node.h"
+
+int main(int argc, char** argv) {
+  ros::init(argc, argv, "sim");
+  ros::NodeHandle nh, pnh("~");
+  std::unique_ptr<aar_sim::SimNode> node;
+  try {
+    node = std::make_unique<aar_sim::SimNode>(nh, aar_sim::LoadSimNodeOptions(pnh));
+  } catch (const std::exception& e) {
+    ROS_FATAL_STREAM("sim: " << e.what());
+    return 1;
+  }
+  node->Start();
+  ros::AsyncSpinner spinner(2);
+  spinner.start();
+  ros::waitForShutdown();
+  return 0;
+}

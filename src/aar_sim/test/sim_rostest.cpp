@@ -1,0 +1,204 @@
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <map>
+#include <mutex>
+#include <sstream>
+
+#include <aar_geometry/robot_model.h>
+#include <aar_msgs/PoseEstimate.h>
+#include <ros/package.h>
+#include <ros/ros.h>
+#include <sensor_msgs/CameraInfo.h>
+#include <sensor_msgs/Image.h>
+#include <sensor_msgs/JointState.h>
+#include <tf2_ros/transform_listener.h>
+
+#include "aar_sim/boom_model.h"
+#include "aar_sim/flight_path.h"
+#include "aar_sim/ros/sim_node.h"
+
+namespace aar_sim {
+namespace {
+
+template <typename Msg>
+struct Collector {
+  std::mutex mutex;
+  std::map<ros::Time, boost::shared_ptr<const Msg>> by_stamp;
+  ros::Subscriber sub;
+  Collector(ros::NodeHandle& nh, const std::string& topic) {
+    sub = nh.subscribe<Msg>(topic, 20, [this](const boost::shared_ptr<const Msg>& m) {
+      std::lock_guard<std::mutex> lock(mutex);
+      by_stamp[m->header.stamp] = m;
+    });
+  }
+  size_t size() {
+    std::lock_guard<std::mutex> lock(mutex);
+    return by_stamp.size();
+  }
+};
+
+Eigen::Isometry3d ToEigen(const geometry_msgs::Transform& t) {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.translation() << t.translation.x, t.translation.y, t.translation.z;
+  T.linear() =
+      Eigen::Quaterniond(t.rotation.w, t.rotation.x, t.rotation.y, t.rotation.z).toRotationMatrix();
+  return T;
+}
+
+TEST(Sim, StereoPairsCameraInfosAndTruth) {
+  ros::NodeHandle nh, pnh("~");
+  Collector<sensor_msgs::Image> left(nh, "stereo/left/image_rect"),
+      right(nh, "stereo/right/image_rect");
+  Collector<sensor_msgs::CameraInfo> left_info(nh, "stereo/left/camera_info"),
+      right_info(nh, "stereo/right/camera_info");
+  Collector<sensor_msgs::JointState> joints(nh, "joint_states");
+  tf2_ros::Buffer tf_buffer;
+  tf2_ros::TransformListener tf_listener(tf_buffer);
+  const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(60.0);
+  while (ros::WallTime::now() < deadline &&
+         (left.size() < 4 || right_info.size() < 4 || joints.size() < 4)) {
+    ros::WallDuration(0.05).sleep();
+  }
+  ros::WallDuration(0.5).sleep();  // let tf catch up with the last frames
+  ASSERT_GE(left.size(), 4u) << "fewer than 4 stereo frames in 60 s";
+
+  std::string path_file;
+  ASSERT_TRUE(pnh.getParam("flight_path", path_file));
+  const FlightPath path = FlightPath::Load(path_file);
+  const double fx = 320.0 / std::tan(25.0 * M_PI / 180.0);  // 640 px wide, 50 deg
+  int checked = 0;
+  std::lock_guard<std::mutex> l1(left.mutex), l2(right.mutex), l3(left_info.mutex),
+      l4(right_info.mutex);
+  for (const auto& [stamp, image] : left.by_stamp) {
+    if (!right.by_stamp.count(stamp) || !left_info.by_stamp.count(stamp) ||
+        !right_info.by_stamp.count(stamp))
+      continue;
+    const auto& r = right.by_stamp.at(stamp);
+    const auto& li = left_info.by_stamp.at(stamp);
+    const auto& ri = right_info.by_stamp.at(stamp);
+    EXPECT_EQ(image->encoding, "mono8");
+    EXPECT_EQ(image->width, 640u);
+    EXPECT_EQ(image->height, 480u);
+    EXPECT_EQ(r->header.stamp, image->header.stamp);
+    EXPECT_EQ(image->header.frame_id, "stereo_left_optical");
+    EXPECT_EQ(r->header.frame_id, "stereo_right_optical");
+    EXPECT_NEAR(li->K[0], fx, 1e-6);
+    EXPECT_NEAR(li->K[4], fx, 1e-6);
+    EXPECT_NEAR(li->K[2], 319.5, 1e-9);
+    EXPECT_NEAR(li->K[5], 239.5, 1e-9);
+    EXPECT_EQ(li->P[3], 0.0);
+    EXPECT_NEAR(ri->P[3], -fx * 0.6, 1e-6);  // Tx = -f * baseline
+    EXPECT_EQ(li->width, 640u);
+
+    // Truth tf equals the flight path at the frame's time (stamp = 1 s + path time).
+    const auto truth =
+        tf_buffer.lookupTransform("tanker", "receiver_truth", stamp, ros::Duration(1.0));
+    const Eigen::Isometry3d T = ToEigen(truth.transform);
+    const Eigen::Isometry3d expected = path.At(stamp.toSec() - 1.0).T_tanker_receiver();
+    EXPECT_LT((T.translation() - expected.translation()).norm(), 1e-6);
+    EXPECT_LT(Eigen::AngleAxisd(T.linear().transpose() * expected.linear()).angle(), 1e-6);
+    // The stereo mount: right camera 0.6 m along the left camera's x axis.
+    const auto mount = tf_buffer.lookupTransform("stereo_left_optical", "stereo_right_optical",
+                                                 stamp, ros::Duration(1.0));
+    EXPECT_NEAR(mount.transform.translation.x, 0.6, 1e-9);
+    ++checked;
+  }
+  EXPECT_GE(checked, 3);
+
+  // Boom links from robot_state_publisher agree with the URDF's kinematics at the joint states.
+  const auto nozzle =
+      tf_buffer.lookupTransform("tanker", "nozzle_tip", ros::Time(0), ros::Duration(2.0));
+  aar_geometry::RobotModelOptions urdf_options;
+  const auto boom = aar_geometry::LoadRobotModel(
+      ros::package::getPath("aar_sim") + "/models/boom.urdf", urdf_options);
+  const auto poses = aar_geometry::ComputeLinkPoses(boom, BoomJointPositions(DefaultBoomPose()));
+  EXPECT_LT((ToEigen(nozzle.transform).translation() - poses.at("nozzle_tip").translation()).norm(),
+            1e-6);
+  std::lock_guard<std::mutex> l5(joints.mutex);
+  const auto& js = joints.by_stamp.begin()->second;
+  ASSERT_EQ(js->name.size(), 3u);
+}
+
+TEST(Sim, ShippedYamlLoads) {
+  const SimNodeOptions o = LoadSimNodeOptions(ros::NodeHandle("/yaml_check"));
+  EXPECT_EQ(o.world.rig.intrinsics.width, 1280);
+  EXPECT_EQ(o.world.rig.intrinsics.height, 960);
+  EXPECT_NEAR(o.world.rig.baseline, 0.5, 1e-12);
+  EXPECT_NEAR(o.rate, 10.0, 1e-12);
+  EXPECT_FALSE(o.lockstep);
+  // DESIGN mount: about 20 m aft and 3 m below the tanker origin.
+  const Eigen::Vector3d centre = o.world.rig.T_tanker_left_optical * Eigen::Vector3d(0.25, 0, 0);
+  EXPECT_TRUE(centre.isApprox(Eigen::Vector3d(-20.0, 0.0, -3.0), 1e-9));
+}
+
+// Runs sim_node with extra arguments and returns its exit code; its output goes to `log`.
+int RunSim(const std::string& args, std::string* log) {
+  const std::string out = "/tmp/aar_sim_rostest_" + std::to_string(::getpid()) + ".log";
+  const std::string command =
+      "timeout 30 " + std::string(AAR_SIM_NODE) + " " + args + " > " + out + " 2>&1";
+  const int status = std::system(command.c_str());
+  std::ifstream in(out);
+  std::stringstream s;
+  s << in.rdbuf();
+  *log = s.str();
+  std::remove(out.c_str());
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+TEST(Sim, BadInputExitsNonZeroNamingTheProblem) {
+  std::string log;
+  EXPECT_EQ(RunSim("__name:=bad_path _flight_path:=/nonexistent/path.csv", &log), 1);
+  EXPECT_NE(log.find("/nonexistent/path.csv"), std::string::npos) << log;
+  EXPECT_EQ(RunSim("__name:=no_path", &log), 1);
+  EXPECT_NE(log.find("flight_path"), std::string::npos) << log;
+  EXPECT_NE(log.find("required"), std::string::npos) << log;
+  const std::string path =
+      ros::package::getPath("aar_sim") + "/../../config/flight_paths/approach_default.csv";
+  EXPECT_EQ(RunSim("__name:=typo _flight_path:=" + path + " _image_widht:=320", &log), 1);
+  EXPECT_NE(log.find("unknown parameter /typo/image_widht"), std::string::npos) << log;
+  EXPECT_EQ(
+      RunSim("__name:=no_mesh _flight_path:=" + path + " _receiver_mesh:=/nonexistent/receiver.obj",
+             &log),
+      1);
+  EXPECT_NE(log.find("/nonexistent/receiver.obj"), std::string::npos) << log;
+}
+
+TEST(Lockstep, NextFrameOnlyAfterTheEstimate) {
+  ros::NodeHandle nh;
+  Collector<sensor_msgs::Image> left(nh, "stereo/left/image_rect");
+  ros::Publisher estimates = nh.advertise<aar_msgs::PoseEstimate>("aar/pose_estimate", 10);
+  auto wait_for = [&](size_t n, double seconds) {
+    const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(seconds);
+    while (ros::WallTime::now() < deadline && left.size() < n) ros::WallDuration(0.02).sleep();
+    return left.size();
+  };
+  ASSERT_EQ(wait_for(1, 30.0), 1u) << "no first frame";
+  for (int k = 1; k <= 3; ++k) {
+    // Held: no further frame while the estimate is outstanding (timeout is 3 s).
+    EXPECT_EQ(wait_for(k + 1, 1.5), static_cast<size_t>(k));
+    aar_msgs::PoseEstimate estimate;
+    {
+      std::lock_guard<std::mutex> lock(left.mutex);
+      estimate.header.stamp = left.by_stamp.rbegin()->first;
+    }
+    estimates.publish(estimate);
+    EXPECT_EQ(wait_for(k + 1, 2.0), static_cast<size_t>(k + 1))
+        << "frame " << k << " did not follow its estimate";
+  }
+  // Without an estimate the sim goes on after the timeout.
+  EXPECT_EQ(wait_for(5, 6.0), 5u);
+}
+
+}  // namespace
+}  // namespace aar_sim
+
+int main(int argc, char** argv) {
+  testing::InitGoogleTest(&argc, argv);
+  ros::init(argc, argv, "aar_sim_rostest");
+  ros::AsyncSpinner spinner(2);
+  spinner.start();
+  return RUN_ALL_TESTS();
+}
