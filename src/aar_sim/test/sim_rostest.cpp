@@ -134,11 +134,12 @@ TEST(Sim, ShippedYamlLoads) {
   EXPECT_TRUE(centre.isApprox(Eigen::Vector3d(-20.0, 0.0, -3.0), 1e-9));
 }
 
-// Runs sim_node with extra arguments and returns its exit code; its output goes to `log`.
-int RunSim(const std::string& args, std::string* log) {
+// Runs sim_node with extra arguments (and environment assignments `env`) and returns its exit
+// code; its output goes to `log`.
+int RunSim(const std::string& args, std::string* log, const std::string& env = "") {
   const std::string out = "/tmp/aar_sim_rostest_" + std::to_string(::getpid()) + ".log";
   const std::string command =
-      "timeout 30 " + std::string(AAR_SIM_NODE) + " " + args + " > " + out + " 2>&1";
+      env + " timeout 30 " + std::string(AAR_SIM_NODE) + " " + args + " > " + out + " 2>&1";
   const int status = std::system(command.c_str());
   std::ifstream in(out);
   std::stringstream s;
@@ -164,6 +165,11 @@ TEST(Sim, BadInputExitsNonZeroNamingTheProblem) {
              &log),
       1);
   EXPECT_NE(log.find("/nonexistent/receiver.obj"), std::string::npos) << log;
+  // No EGL vendor library: as on a machine without Mesa's or a GPU's EGL.
+  EXPECT_EQ(RunSim("__name:=no_egl _flight_path:=" + path, &log,
+                   "__EGL_VENDOR_LIBRARY_FILENAMES=/nonexistent.json"),
+            1);
+  EXPECT_NE(log.find("no EGL display available"), std::string::npos) << log;
 }
 
 TEST(Lockstep, NextFrameOnlyAfterTheEstimate) {
