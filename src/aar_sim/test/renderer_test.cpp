@@ -151,6 +151,33 @@ TEST(Renderer, BoomOccludesAndIsLabelled) {
   EXPECT_LT(count(a.left.label, Label::kReceiver), count(b.left.label, Label::kReceiver));
 }
 
+TEST(Renderer, BoomPoseFromThePathMovesTheBoom) {
+  World world(TestWorld(true));
+  const FlightPathRow row = Receiver(-60.0, 0.0, -18.0, 0.0);
+  BoomPose swung = DefaultBoomPose();
+  swung.roll = aar_geometry::DegToRad(10.0);
+  swung.pitch = aar_geometry::DegToRad(36.0);
+  swung.extension = 4.0;
+  const StereoFrame a = world.Render(row, DefaultBoomPose(), 0, true);
+  const StereoFrame b = world.Render(row, swung, 0, true);
+  EXPECT_GT((b.T_tanker_links.at("nozzle_tip").translation() -
+             a.T_tanker_links.at("nozzle_tip").translation())
+                .norm(),
+            3.0);
+  // The boom's pixels follow: the nozzle's new projection is a boom pixel, the old one is not.
+  const StereoRig& rig = world.options().rig;
+  for (const auto* frame : {&a, &b}) {
+    const Eigen::Vector3d tip = rig.T_tanker_left_optical.inverse() *
+                                frame->T_tanker_links.at("nozzle_tip") * Eigen::Vector3d(0.1, 0, 0);
+    const Eigen::Vector2d px = rig.intrinsics.Project(tip);
+    const uint8_t label_here = frame->left.label.at(std::lround(px.x()), std::lround(px.y()));
+    const uint8_t label_other =
+        (frame == &a ? b : a).left.label.at(std::lround(px.x()), std::lround(px.y()));
+    EXPECT_EQ(label_here, static_cast<uint8_t>(Label::kBoom));
+    EXPECT_NE(label_other, static_cast<uint8_t>(Label::kBoom));
+  }
+}
+
 TEST(Renderer, RightCameraSeesTheSceneShiftedByTheDisparity) {
   World world(TestWorld(false));
   const FlightPathRow row = Receiver(-40.0, 0.0, -12.0, 0.0);

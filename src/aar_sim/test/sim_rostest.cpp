@@ -165,6 +165,10 @@ TEST(Sim, BadInputExitsNonZeroNamingTheProblem) {
              &log),
       1);
   EXPECT_NE(log.find("/nonexistent/receiver.obj"), std::string::npos) << log;
+  EXPECT_EQ(
+      RunSim("__name:=no_urdf _flight_path:=" + path + " _boom_urdf:=/nonexistent/boom.urdf", &log),
+      1);
+  EXPECT_NE(log.find("/nonexistent/boom.urdf"), std::string::npos) << log;
   // No EGL vendor library: as on a machine without Mesa's or a GPU's EGL.
   EXPECT_EQ(RunSim("__name:=no_egl _flight_path:=" + path, &log,
                    "__EGL_VENDOR_LIBRARY_FILENAMES=/nonexistent.json"),
