@@ -1,0 +1,93 @@
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <opencv2/core.hpp>
+
+namespace aar_stereo {
+
+enum class Matcher { kBlockMatching, kSemiGlobal };
+enum class Decimation { kNone, kEveryNth, kVoxelGrid };
+
+// Matcher and cloud settings. Defaults: the thesis (block 9, 48 disparities, every 8th point,
+// 750 m); the remaining block-matching values are stereo_image_proc's defaults.
+struct StereoOptions {
+  Matcher matcher = Matcher::kBlockMatching;
+  int block_size = 9;             // [px] odd, 5..255 (BM), 1..11 typical (SGBM)
+  int num_disparities = 48;       // [px] multiple of 16
+  int min_disparity = 0;          // [px]
+  int prefilter_size = 9;         // [px] odd, 5..255 (BM)
+  int prefilter_cap = 31;         // 1..63
+  int texture_threshold = 10;     // BM: minimum texture in the block
+  int uniqueness_ratio = 15;      // [%] best match must beat the second by this margin
+  int speckle_window_size = 100;  // [px] speckle filter region size; 0 disables
+  int speckle_range = 4;          // [px] disparity variation inside a speckle region
+  int disp12_max_diff = -1;       // [px] left-right check; negative disables
+  int sgbm_p1 = 0;                // SGBM smoothness; 0: 8 * block_size^2
+  int sgbm_p2 = 0;                // SGBM smoothness; 0: 32 * block_size^2
+  bool sgbm_full_dp = false;      // SGBM: full 8-direction dynamic programming
+
+  double max_range = 750.0;  // [m] points farther along the optical axis are dropped
+  Decimation decimation = Decimation::kEveryNth;
+  int keep_every = 8;        // kEveryNth: keep valid points 0, n, 2n, ... in row-major order
+  double voxel_size = 0.05;  // [m] kVoxelGrid: one point (the centroid) per occupied voxel
+  bool organized = false;    // kNone only: a height x width cloud with NaN where invalid
+  bool intensity = false;    // carry the left image's grey level per point
+
+  // Throws std::invalid_argument naming the first setting OpenCV would reject.
+  void Validate() const;
+};
+
+// The rectified pair's projection matrices as in sensor_msgs/CameraInfo P (3x4, row-major):
+// the right camera's P[0][3] = -fx * baseline.
+struct StereoGeometry {
+  int width = 0, height = 0;   // [px]
+  double fx = 0, fy = 0;       // [px] left
+  double cx_left = 0, cy = 0;  // [px]
+  double cx_right = 0;         // [px]
+  double Tx = 0;               // right P[0][3] [px * m]
+
+  double baseline() const { return -Tx / fx; }  // [m]
+  // 4x4 reprojection matrix: [x y z w]^T = Q [u v d 1]^T (image_geometry's StereoCameraModel).
+  cv::Matx44d Q() const;
+  // Throws std::invalid_argument naming what is wrong (zero focal length, no baseline, ...).
+  void Validate() const;
+};
+
+struct CloudPoints {
+  std::vector<Eigen::Vector3f> xyz;  // [m] in the left optical frame; NaN where organized+invalid
+  std::vector<float> intensity;      // [0, 255] when requested
+  int width = 0, height = 1;         // organized: image size; else (size, 1)
+};
+
+struct StereoTimings {
+  double matching_ms = 0, reprojection_ms = 0, decimation_ms = 0, total_ms = 0;
+};
+
+struct StereoResult {
+  cv::Mat disparity;  // CV_32F [px]; invalid pixels hold min_disparity - 1
+  CloudPoints cloud;
+  int valid_pixels = 0;  // disparity valid and within max_range
+  StereoTimings timings;
+};
+
+// Disparity and point cloud from a rectified mono8 pair. `roi` restricts matching to a region
+// of the left image (the rest is invalid); an empty roi means the whole image.
+class StereoProcessor {
+ public:
+  explicit StereoProcessor(const StereoOptions& options);  // throws std::invalid_argument
+  const StereoOptions& options() const { return options_; }
+
+  // Throws std::invalid_argument for images that are empty, not CV_8UC1, of different sizes or
+  // of a size other than the geometry's.
+  StereoResult Process(const cv::Mat& left, const cv::Mat& right, const StereoGeometry& geometry,
+                       const cv::Rect& roi = cv::Rect()) const;
+
+ private:
+  StereoOptions options_;
+};
+
+}  // namespace aar_stereo

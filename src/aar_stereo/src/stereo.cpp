@@ -1,0 +1,221 @@
+#include "aar_stereo/stereo.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <unordered_map>
+
+#include <opencv2/calib3d.hpp>
+#include <opencv2/imgproc.hpp>
+
+namespace aar_stereo {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double Ms(Clock::time_point a, Clock::time_point b) {
+  return std::chrono::duration<double, std::milli>(b - a).count();
+}
+
+void Check(bool ok, const std::string& what) {
+  if (!ok) throw std::invalid_argument(what);
+}
+
+}  // namespace
+
+void StereoOptions::Validate() const {
+  Check(block_size % 2 == 1 && block_size >= (matcher == Matcher::kBlockMatching ? 5 : 1) &&
+            block_size <= 255,
+        "block_size must be odd, 5..255 for block matching (1..255 semi-global), not " +
+            std::to_string(block_size));
+  Check(
+      num_disparities > 0 && num_disparities % 16 == 0,
+      "num_disparities must be a positive multiple of 16, not " + std::to_string(num_disparities));
+  Check(prefilter_size % 2 == 1 && prefilter_size >= 5 && prefilter_size <= 255,
+        "prefilter_size must be odd, 5..255, not " + std::to_string(prefilter_size));
+  Check(prefilter_cap >= 1 && prefilter_cap <= 63, "prefilter_cap must be 1..63");
+  Check(texture_threshold >= 0, "texture_threshold must not be negative");
+  Check(uniqueness_ratio >= 0, "uniqueness_ratio must not be negative");
+  Check(speckle_window_size >= 0 && speckle_range >= 0, "speckle settings must not be negative");
+  Check(max_range > 0.0, "max_range must be positive");
+  Check(decimation != Decimation::kEveryNth || keep_every >= 1, "keep_every must be at least 1");
+  Check(decimation != Decimation::kVoxelGrid || voxel_size > 0.0, "voxel_size must be positive");
+  Check(!organized || decimation == Decimation::kNone, "an organized cloud needs decimation none");
+}
+
+cv::Matx44d StereoGeometry::Q() const {
+  // Disparities are pre-adjusted by (cx_left - cx_right), as stereo_image_proc does, so the
+  // principal points' difference does not appear here.
+  const double b = baseline();
+  return cv::Matx44d(1.0, 0.0, 0.0, -cx_left,           //
+                     0.0, fx / fy, 0.0, -cy * fx / fy,  //
+                     0.0, 0.0, 0.0, fx,                 //
+                     0.0, 0.0, 1.0 / b, 0.0);
+}
+
+void StereoGeometry::Validate() const {
+  Check(width > 0 && height > 0, "camera info has no image size");
+  Check(fx > 0.0 && fy > 0.0,
+        "camera info projection matrix P has no focal length (P[0] or P[5] is 0)");
+  Check(std::isfinite(cx_left) && std::isfinite(cy) && std::isfinite(cx_right) && std::isfinite(Tx),
+        "camera info projection matrix P is not finite");
+  Check(Tx < 0.0, "right camera info P[3] (-fx * baseline) must be negative, is " +
+                      std::to_string(Tx) + ": not the right camera of a rectified pair");
+}
+
+StereoProcessor::StereoProcessor(const StereoOptions& options) : options_(options) {
+  options_.Validate();
+}
+
+StereoResult StereoProcessor::Process(const cv::Mat& left, const cv::Mat& right,
+                                      const StereoGeometry& geometry,
+                                      const cv::Rect& roi_in) const {
+  const auto t0 = Clock::now();
+  Check(!left.empty() && !right.empty(), "empty image");
+  Check(left.type() == CV_8UC1 && right.type() == CV_8UC1,
+        "images must be 8-bit single channel (mono8)");
+  Check(left.size() == right.size(),
+        "left image is " + std::to_string(left.cols) + "x" + std::to_string(left.rows) +
+            ", right " + std::to_string(right.cols) + "x" + std::to_string(right.rows));
+  geometry.Validate();
+  Check(left.cols == geometry.width && left.rows == geometry.height,
+        "images are " + std::to_string(left.cols) + "x" + std::to_string(left.rows) +
+            ", camera info says " + std::to_string(geometry.width) + "x" +
+            std::to_string(geometry.height));
+  const StereoOptions& o = options_;
+
+  // Matching region: the roi, widened so the matcher sees the right image's candidates (to the
+  // left by the disparity range) and the block's margins.
+  const cv::Rect full(0, 0, left.cols, left.rows);
+  cv::Rect match = full;
+  cv::Rect roi = roi_in.area() > 0 ? (roi_in & full) : full;
+  if (roi != full) {
+    const int margin = o.block_size / 2 + 1;
+    match = cv::Rect(roi.x - o.min_disparity - o.num_disparities - margin, roi.y - margin,
+                     roi.width + o.num_disparities + o.min_disparity + 2 * margin,
+                     roi.height + 2 * margin) &
+            full;
+  }
+  cv::Mat disparity16;
+  if (match.area() > 0) {
+    if (o.matcher == Matcher::kBlockMatching) {
+      auto bm = cv::StereoBM::create(o.num_disparities, o.block_size);
+      bm->setMinDisparity(o.min_disparity);
+      bm->setPreFilterSize(o.prefilter_size);
+      bm->setPreFilterCap(o.prefilter_cap);
+      bm->setTextureThreshold(o.texture_threshold);
+      bm->setUniquenessRatio(o.uniqueness_ratio);
+      bm->setSpeckleWindowSize(o.speckle_window_size);
+      bm->setSpeckleRange(o.speckle_range);
+      bm->setDisp12MaxDiff(o.disp12_max_diff);
+      bm->compute(left(match), right(match), disparity16);
+    } else {
+      const int area = o.block_size * o.block_size;
+      auto sgbm = cv::StereoSGBM::create(
+          o.min_disparity, o.num_disparities, o.block_size, o.sgbm_p1 > 0 ? o.sgbm_p1 : 8 * area,
+          o.sgbm_p2 > 0 ? o.sgbm_p2 : 32 * area, o.disp12_max_diff, o.prefilter_cap,
+          o.uniqueness_ratio, o.speckle_window_size, o.speckle_range,
+          o.sgbm_full_dp ? cv::StereoSGBM::MODE_HH : cv::StereoSGBM::MODE_SGBM);
+      sgbm->compute(left(match), right(match), disparity16);
+    }
+  }
+
+  // Fixed point (1/16 px) to float, adjusted for the principal points as stereo_image_proc does.
+  const float invalid = static_cast<float>(o.min_disparity - 1);
+  StereoResult result;
+  result.disparity = cv::Mat(left.size(), CV_32F, cv::Scalar(invalid));
+  const float shift = static_cast<float>(geometry.cx_left - geometry.cx_right);
+  const int invalid16 = (o.min_disparity - 1) * 16;
+  for (int v = roi.y; v < roi.y + roi.height; ++v) {
+    const short* src = disparity16.ptr<short>(v - match.y);
+    float* dst = result.disparity.ptr<float>(v);
+    for (int u = roi.x; u < roi.x + roi.width; ++u) {
+      const short d = src[u - match.x];
+      if (d > invalid16) dst[u] = d / 16.0f - shift;
+    }
+  }
+  const auto t1 = Clock::now();
+
+  // Reprojection: [x y z w] = Q [u v d 1], by hand (cv::reprojectImageTo3D's arithmetic).
+  const cv::Matx44d Q = geometry.Q();
+  const double min_d = 0.0;  // disparities at or below 0 are at infinity
+  std::vector<Eigen::Vector3f> points;
+  std::vector<float> intensities;
+  std::vector<int> pixel_of_point;
+  points.reserve(static_cast<size_t>(roi.area()) / 4);
+  for (int v = roi.y; v < roi.y + roi.height; ++v) {
+    const float* d_row = result.disparity.ptr<float>(v);
+    for (int u = roi.x; u < roi.x + roi.width; ++u) {
+      const double d = d_row[u];
+      if (!(d > invalid) || d <= min_d) continue;
+      const double w = Q(3, 2) * d + Q(3, 3);
+      const Eigen::Vector3f p(static_cast<float>((u * Q(0, 0) + Q(0, 3)) / w),
+                              static_cast<float>((v * Q(1, 1) + Q(1, 3)) / w),
+                              static_cast<float>(Q(2, 3) / w));
+      if (!(p.z() <= o.max_range)) continue;
+      points.push_back(p);
+      pixel_of_point.push_back(v * left.cols + u);
+    }
+  }
+  result.valid_pixels = static_cast<int>(points.size());
+  const auto t2 = Clock::now();
+
+  CloudPoints& cloud = result.cloud;
+  auto add = [&](size_t i) {
+    cloud.xyz.push_back(points[i]);
+    if (o.intensity) cloud.intensity.push_back(left.data[pixel_of_point[i]]);
+  };
+  if (o.decimation == Decimation::kNone && o.organized) {
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    cloud.xyz.assign(static_cast<size_t>(left.rows) * left.cols, Eigen::Vector3f(nan, nan, nan));
+    if (o.intensity) cloud.intensity.assign(cloud.xyz.size(), 0.0f);
+    for (size_t i = 0; i < points.size(); ++i) {
+      cloud.xyz[pixel_of_point[i]] = points[i];
+      if (o.intensity) cloud.intensity[pixel_of_point[i]] = left.data[pixel_of_point[i]];
+    }
+    cloud.width = left.cols;
+    cloud.height = left.rows;
+  } else {
+    if (o.decimation == Decimation::kVoxelGrid) {
+      struct Cell {
+        Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+        double intensity = 0;
+        int n = 0;
+        size_t order;
+      };
+      std::unordered_map<int64_t, Cell> cells;
+      const double inv = 1.0 / o.voxel_size;
+      for (size_t i = 0; i < points.size(); ++i) {
+        const int64_t x = static_cast<int64_t>(std::floor(points[i].x() * inv)) & 0x1fffff;
+        const int64_t y = static_cast<int64_t>(std::floor(points[i].y() * inv)) & 0x1fffff;
+        const int64_t z = static_cast<int64_t>(std::floor(points[i].z() * inv)) & 0x1fffff;
+        auto [it, inserted] = cells.try_emplace((x << 42) | (y << 21) | z);
+        if (inserted) it->second.order = i;
+        it->second.sum += points[i].cast<double>();
+        it->second.intensity += left.data[pixel_of_point[i]];
+        ++it->second.n;
+      }
+      std::vector<const Cell*> ordered;  // first-seen order: deterministic output
+      ordered.reserve(cells.size());
+      for (const auto& [key, cell] : cells) ordered.push_back(&cell);
+      std::sort(ordered.begin(), ordered.end(),
+                [](const Cell* a, const Cell* b) { return a->order < b->order; });
+      for (const Cell* c : ordered) {
+        cloud.xyz.push_back((c->sum / c->n).cast<float>());
+        if (o.intensity) cloud.intensity.push_back(static_cast<float>(c->intensity / c->n));
+      }
+    } else {
+      const size_t step =
+          o.decimation == Decimation::kEveryNth ? static_cast<size_t>(o.keep_every) : 1;
+      for (size_t i = 0; i < points.size(); i += step) add(i);
+    }
+    cloud.width = static_cast<int>(cloud.xyz.size());
+    cloud.height = 1;
+  }
+  const auto t3 = Clock::now();
+  result.timings = {Ms(t0, t1), Ms(t1, t2), Ms(t2, t3), Ms(t0, t3)};
+  return result;
+}
+
+}  // namespace aar_stereo
