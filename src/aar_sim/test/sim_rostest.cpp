@@ -84,7 +84,8 @@ TEST(Sim, StereoPairsCameraInfosAndTruth) {
     EXPECT_EQ(image->height, 480u);
     EXPECT_EQ(r->header.stamp, image->header.stamp);
     EXPECT_EQ(image->header.frame_id, "stereo_left_optical");
-    EXPECT_EQ(r->header.frame_id, "stereo_right_optical");
+    EXPECT_EQ(r->header.frame_id, "stereo_left_optical");  // ROS stereo convention (image_geometry)
+    EXPECT_EQ(ri->header.frame_id, "stereo_left_optical");
     EXPECT_NEAR(li->K[0], fx, 1e-6);
     EXPECT_NEAR(li->K[4], fx, 1e-6);
     EXPECT_NEAR(li->K[2], 319.5, 1e-9);

@@ -224,8 +224,11 @@ void SimNode::PublishFrame(int index, const FlightPathRow& row, const BoomPose& 
   std_msgs::Header left, right;
   left.stamp = right.stamp = stamp;
   left.seq = right.seq = static_cast<uint32_t>(index);
-  left.frame_id = "stereo_left_optical";
-  right.frame_id = "stereo_right_optical";
+  // Both in the left optical frame, ROS's stereo convention: the right camera's P (with
+  // Tx = -f * baseline) projects points given in the left camera's frame, and image_geometry
+  // (hence stereo_image_proc) asserts the frames are equal. The right camera's own pose is the
+  // tf frame stereo_right_optical.
+  left.frame_id = right.frame_id = "stereo_left_optical";
   left_pub_.publish(ToImageMsg(frame.left.image, left), ToCameraInfoMsg(k, 0.0, left));
   right_pub_.publish(ToImageMsg(frame.right.image, right),
                      ToCameraInfoMsg(k, -k.fx * options_.world.rig.baseline, right));

@@ -1,0 +1,85 @@
+#pragma once
+
+#include <atomic>
+#include <memory>
+#include <mutex>
+
+#include <aar_stereo/StereoConfig.h>
+#include <diagnostic_updater/diagnostic_updater.h>
+#include <dynamic_reconfigure/server.h>
+#include <message_filters/subscriber.h>
+#include <message_filters/sync_policies/approximate_time.h>
+#include <message_filters/sync_policies/exact_time.h>
+#include <message_filters/synchronizer.h>
+#include <ros/ros.h>
+#include <sensor_msgs/CameraInfo.h>
+#include <sensor_msgs/Image.h>
+
+#include "aar_stereo/stereo.h"
+
+namespace aar_stereo {
+
+struct StereoNodeOptions {
+  bool approximate_sync = false;  // pair images whose stamps differ (unsynchronised cameras)
+  int queue_size = 5;             // synchroniser queue per input
+};
+
+// Reads the node's own (non-reconfigurable) ~parameters and rejects unknown ~parameters; the
+// matcher settings are read by the dynamic_reconfigure server. Throws std::invalid_argument.
+StereoNodeOptions LoadStereoNodeOptions(const ros::NodeHandle& private_nh);
+
+// Matcher settings from a (possibly user-edited) reconfigure request, sanitised as
+// stereo_image_proc does: odd block sizes, disparity range a multiple of 16. Writes the values
+// used back into `config` so the user sees them.
+StereoOptions ToStereoOptions(StereoConfig& config);
+
+// Subscribes (lazily) to left/ and right/ image_rect + camera_info in its namespace, publishes
+// disparity and points2 (in the left optical frame).
+class StereoNode {
+ public:
+  StereoNode(ros::NodeHandle nh, ros::NodeHandle private_nh, const StereoNodeOptions& options);
+
+ private:
+  using Image = sensor_msgs::Image;
+  using Info = sensor_msgs::CameraInfo;
+  using ExactPolicy = message_filters::sync_policies::ExactTime<Image, Info, Image, Info>;
+  using ApproximatePolicy =
+      message_filters::sync_policies::ApproximateTime<Image, Info, Image, Info>;
+
+  void Connect();
+  void OnFrame(const Image::ConstPtr& left, const Info::ConstPtr& left_info,
+               const Image::ConstPtr& right, const Info::ConstPtr& right_info);
+  void OnReconfigure(StereoConfig& config, uint32_t level);
+  void CheckInputs(const ros::WallTimerEvent&);
+  void Diagnose(diagnostic_updater::DiagnosticStatusWrapper& status);
+
+  ros::NodeHandle nh_, private_nh_;
+  StereoNodeOptions options_;
+  std::mutex mutex_;  // guards processor_ against reconfiguration mid-frame
+  std::unique_ptr<StereoProcessor> processor_;
+  dynamic_reconfigure::Server<StereoConfig> reconfigure_;
+
+  std::mutex connect_mutex_;
+  bool subscribed_ = false;
+  message_filters::Subscriber<Image> left_sub_, right_sub_;
+  message_filters::Subscriber<Info> left_info_sub_, right_info_sub_;
+  std::unique_ptr<message_filters::Synchronizer<ExactPolicy>> exact_;
+  std::unique_ptr<message_filters::Synchronizer<ApproximatePolicy>> approximate_;
+  ros::Publisher disparity_pub_, points_pub_;
+
+  // Input health: last arrival per input, for "stamps never match" reports.
+  std::mutex input_mutex_;
+  ros::Time last_stamp_[4];
+  ros::WallTime last_arrival_[4];
+  ros::WallTime last_frame_;
+  ros::WallTimer input_timer_;
+
+  diagnostic_updater::Updater diagnostics_;
+  std::atomic<uint64_t> frames_{0}, skipped_{0};
+  std::mutex stats_mutex_;
+  StereoTimings last_timings_;
+  size_t last_points_ = 0;
+  std::string last_error_;
+};
+
+}  // namespace aar_stereo

@@ -1,0 +1,127 @@
+#include "aar_stereo/ros/conversions.h"
+
+#include <cmath>
+#include <cstring>
+#include <stdexcept>
+
+#include <sensor_msgs/image_encodings.h>
+#include <sensor_msgs/point_cloud2_iterator.h>
+#include <boost/make_shared.hpp>
+
+namespace aar_stereo {
+
+StereoGeometry ToStereoGeometry(const sensor_msgs::CameraInfo& left,
+                                const sensor_msgs::CameraInfo& right) {
+  for (const auto* info : {&left, &right}) {
+    const char* which = info == &left ? "left" : "right";
+    for (double p : info->P) {
+      if (!std::isfinite(p))
+        throw std::invalid_argument(std::string(which) + " camera info P is not finite");
+    }
+    if (info->P[0] <= 0.0 || info->P[5] <= 0.0 || info->P[10] != 1.0) {
+      throw std::invalid_argument(
+          std::string(which) +
+          " camera info has no valid projection matrix P (fx, fy must be positive, "
+          "P[10] = 1): is the camera rectified and calibrated?");
+    }
+  }
+  if (left.width != right.width || left.height != right.height) {
+    throw std::invalid_argument("camera infos differ in size: left " + std::to_string(left.width) +
+                                "x" + std::to_string(left.height) + ", right " +
+                                std::to_string(right.width) + "x" + std::to_string(right.height));
+  }
+  if (left.P[0] != right.P[0] || left.P[5] != right.P[5] || left.P[6] != right.P[6]) {
+    throw std::invalid_argument(
+        "left and right camera infos differ in fx, fy or cy: not a rectified pair");
+  }
+  StereoGeometry g;
+  g.width = static_cast<int>(left.width);
+  g.height = static_cast<int>(left.height);
+  g.fx = left.P[0];
+  g.fy = left.P[5];
+  g.cx_left = left.P[2];
+  g.cy = left.P[6];
+  g.cx_right = right.P[2];
+  g.Tx = right.P[3];
+  g.Validate();
+  return g;
+}
+
+cv::Mat ToMono8(const sensor_msgs::Image& image, const char* which) {
+  if (image.encoding != sensor_msgs::image_encodings::MONO8) {
+    throw std::invalid_argument(std::string(which) + " image has encoding '" + image.encoding +
+                                "'; aar_stereo needs mono8 rectified images");
+  }
+  if (image.width == 0 || image.height == 0 || image.step < image.width ||
+      image.data.size() < static_cast<size_t>(image.step) * image.height) {
+    throw std::invalid_argument(std::string(which) + " image is malformed (size " +
+                                std::to_string(image.width) + "x" + std::to_string(image.height) +
+                                ", step " + std::to_string(image.step) + ", " +
+                                std::to_string(image.data.size()) + " bytes)");
+  }
+  return cv::Mat(static_cast<int>(image.height), static_cast<int>(image.width), CV_8UC1,
+                 const_cast<uint8_t*>(image.data.data()), image.step);
+}
+
+stereo_msgs::DisparityImagePtr ToDisparityMsg(const StereoResult& result,
+                                              const StereoOptions& options,
+                                              const StereoGeometry& geometry,
+                                              const cv::Rect& valid_window,
+                                              const std_msgs::Header& header) {
+  auto msg = boost::make_shared<stereo_msgs::DisparityImage>();
+  msg->header = header;
+  sensor_msgs::Image& image = msg->image;
+  image.header = header;
+  image.height = result.disparity.rows;
+  image.width = result.disparity.cols;
+  image.encoding = sensor_msgs::image_encodings::TYPE_32FC1;
+  image.step = image.width * sizeof(float);
+  image.data.resize(static_cast<size_t>(image.step) * image.height);
+  for (int v = 0; v < result.disparity.rows; ++v) {
+    std::memcpy(&image.data[static_cast<size_t>(v) * image.step], result.disparity.ptr<float>(v),
+                image.step);
+  }
+  msg->f = static_cast<float>(geometry.fx);
+  msg->T = static_cast<float>(geometry.baseline());
+  msg->valid_window.x_offset = valid_window.x;
+  msg->valid_window.y_offset = valid_window.y;
+  msg->valid_window.width = valid_window.width;
+  msg->valid_window.height = valid_window.height;
+  msg->min_disparity = static_cast<float>(options.min_disparity);
+  msg->max_disparity = static_cast<float>(options.min_disparity + options.num_disparities - 1);
+  msg->delta_d = 1.0f / 16.0f;
+  return msg;
+}
+
+sensor_msgs::PointCloud2Ptr ToPointCloud2Msg(const CloudPoints& cloud,
+                                             const std_msgs::Header& header) {
+  auto msg = boost::make_shared<sensor_msgs::PointCloud2>();
+  msg->header = header;
+  sensor_msgs::PointCloud2Modifier modifier(*msg);
+  const bool intensity = !cloud.intensity.empty();
+  if (intensity) {
+    modifier.setPointCloud2Fields(
+        4, "x", 1, sensor_msgs::PointField::FLOAT32, "y", 1, sensor_msgs::PointField::FLOAT32, "z",
+        1, sensor_msgs::PointField::FLOAT32, "intensity", 1, sensor_msgs::PointField::FLOAT32);
+  } else {
+    modifier.setPointCloud2FieldsByString(1, "xyz");
+  }
+  modifier.resize(cloud.xyz.size());
+  msg->width = static_cast<uint32_t>(cloud.width);
+  msg->height = static_cast<uint32_t>(cloud.height);
+  msg->row_step = msg->width * msg->point_step;
+  msg->is_dense = cloud.height == 1;  // organized clouds carry NaN for invalid pixels
+  sensor_msgs::PointCloud2Iterator<float> x(*msg, "x"), y(*msg, "y"), z(*msg, "z");
+  for (size_t i = 0; i < cloud.xyz.size(); ++i, ++x, ++y, ++z) {
+    *x = cloud.xyz[i].x();
+    *y = cloud.xyz[i].y();
+    *z = cloud.xyz[i].z();
+  }
+  if (intensity) {
+    sensor_msgs::PointCloud2Iterator<float> in(*msg, "intensity");
+    for (size_t i = 0; i < cloud.intensity.size(); ++i, ++in) *in = cloud.intensity[i];
+  }
+  return msg;
+}
+
+}  // namespace aar_stereo
