@@ -25,8 +25,13 @@ TriangleAdjacency BuildAdjacency(const TriangleMesh& mesh) {
   std::unordered_map<uint64_t, std::vector<EdgeUse>> uses;
   uses.reserve(3 * n);
   for (size_t t = 0; t < n; ++t) {
+    const Eigen::Vector3i& tri = mesh.triangles[t];
+    for (int k = 0; k < 3; ++k) adjacency.vertices[t][k] = tri[k];
+    if (tri[0] == tri[1] || tri[1] == tri[2] || tri[2] == tri[0]) {
+      adjacency.degenerate_triangles.push_back(static_cast<int>(t));
+      continue;
+    }
     for (int k = 0; k < 3; ++k) {
-      adjacency.vertices[t][k] = mesh.triangles[t][k];
       const int a = mesh.triangles[t][k];
       const int b = mesh.triangles[t][(k + 1) % 3];
       const uint64_t key = static_cast<uint64_t>(std::min(a, b)) * num_vertices + std::max(a, b);
@@ -59,6 +64,13 @@ TriangleAdjacency BuildAdjacency(const TriangleMesh& mesh) {
 }
 
 bool IsConvex(const TriangleMesh& mesh, double tolerance) {
+  mesh.Validate();
+  // No volume, no convex body (a two-sided sheet passes the plane test otherwise).
+  double volume = 0.0;
+  for (const auto& t : mesh.triangles) {
+    volume += mesh.vertices[t[0]].dot(mesh.vertices[t[1]].cross(mesh.vertices[t[2]])) / 6.0;
+  }
+  if (!(volume > 0.0)) return false;
   for (size_t t = 0; t < mesh.triangles.size(); ++t) {
     const Eigen::Vector3d n = mesh.TriangleNormal(static_cast<int>(t));
     if (n.isZero()) continue;

@@ -1,7 +1,12 @@
 #include "aar_geometry/mesh_io.h"
 
+#include <algorithm>
+#include <cctype>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
+#include <iomanip>
+#include <iterator>
 #include <sstream>
 
 #include <assimp/postprocess.h>
@@ -13,6 +18,51 @@
 namespace aar_geometry {
 
 namespace {
+
+std::string Lowercase(std::string s) {
+  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
+
+// Debian's assimp 5.2 loops forever on a PLY cut off inside its header and exhausts memory on a
+// COLLADA list with a non-numeric entry. Checked here first, so such files raise LoadError.
+void CheckStructure(const std::string& path) {
+  const std::string ext = Lowercase(std::filesystem::path(path).extension().string());
+  if (ext != ".ply" && ext != ".dae") return;
+  std::ifstream in(path, std::ios::binary);
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (ext == ".ply") {
+    if (text.rfind("ply", 0) != 0) throw LoadError(path, "not a PLY file (no 'ply' magic)");
+    const size_t end = text.find("end_header");
+    if (end == std::string::npos || end > 65536) {
+      throw LoadError(path, "PLY header is incomplete (no end_header)");
+    }
+    return;
+  }
+  // COLLADA number lists: <p>, <v>, <vcount>, <h>, <int_array>, <float_array>. (A plain scan:
+  // std::regex recurses per character and overflows the stack on large arrays.)
+  static const std::vector<std::string> kLists = {"p", "v",         "vcount",
+                                                  "h", "int_array", "float_array"};
+  for (size_t open = text.find('<'); open != std::string::npos; open = text.find('<', open + 1)) {
+    const size_t name_end = text.find_first_of(" \t\r\n/>", open + 1);
+    if (name_end == std::string::npos) break;
+    const std::string tag = text.substr(open + 1, name_end - open - 1);
+    if (std::find(kLists.begin(), kLists.end(), tag) == kLists.end()) continue;
+    const size_t body = text.find('>', name_end);
+    if (body == std::string::npos || text[body - 1] == '/') continue;
+    const size_t close = text.find('<', body + 1);
+    if (close == std::string::npos) throw LoadError(path, "COLLADA <" + tag + "> is not closed");
+    const bool floats = tag == "float_array";
+    const size_t bad =
+        text.find_first_not_of(floats ? "0123456789+-.eE \t\r\n" : "0123456789- \t\r\n", body + 1);
+    if (bad < close) {
+      const long line = std::count(text.begin(), text.begin() + static_cast<long>(bad), '\n') + 1;
+      throw LoadError(path, "COLLADA <" + tag + "> list holds a non-numeric character '" +
+                                text.substr(bad, 1) + "' (line " + std::to_string(line) + ")");
+    }
+    open = close;
+  }
+}
 
 Eigen::Matrix4d ToEigen(const aiMatrix4x4& m) {
   Eigen::Matrix4d out;
@@ -62,6 +112,7 @@ void AddNode(const aiScene& scene, const aiNode& node, const Eigen::Matrix4d& pa
 
 TriangleMesh LoadMesh(const std::string& path) {
   CheckReadableFile(path);
+  CheckStructure(path);
 
   Assimp::Importer importer;
   // Keep the file's axes: ROS models are authored z-up and must not be turned to y-up.
@@ -112,11 +163,13 @@ void WriteObj(const std::string& path, const TriangleMesh& mesh, const std::stri
   if (!out) throw LoadError(path, "cannot be written");
   std::istringstream lines(comment);
   for (std::string line; std::getline(lines, line);) out << "# " << line << "\n";
-  char buffer[128];
-  for (const auto& v : mesh.vertices) {
-    std::snprintf(buffer, sizeof(buffer), "v %.6f %.6f %.6f\n", v.x(), v.y(), v.z());
-    out << buffer;
+  for (const auto& name : mesh.part_names) {
+    if (name.empty() || name.find_first_of("\r\n") != std::string::npos) {
+      throw LoadError(path, "part name '" + name + "' cannot be written as an OBJ object name");
+    }
   }
+  out << std::fixed << std::setprecision(6);
+  for (const auto& v : mesh.vertices) out << "v " << v.x() << ' ' << v.y() << ' ' << v.z() << "\n";
   // Faces grouped by part, parts in their order, so each part is one OBJ object.
   for (size_t p = 0; p < mesh.part_names.size(); ++p) {
     out << "o " << mesh.part_names[p] << "\n";

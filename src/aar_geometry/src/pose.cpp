@@ -1,5 +1,8 @@
 #include "aar_geometry/pose.h"
 
+#include <stdexcept>
+#include <string>
+
 namespace aar_geometry {
 
 Eigen::Matrix3d RotationFromRollPitchYaw(const RollPitchYaw& rpy) {
@@ -9,18 +12,29 @@ Eigen::Matrix3d RotationFromRollPitchYaw(const RollPitchYaw& rpy) {
       .toRotationMatrix();
 }
 
+namespace {
+
+// atan2 gives -pi for a -0.0 sine; the range promised is (-pi, pi].
+double Wrap(double a) { return a <= -M_PI ? a + 2.0 * M_PI : a; }
+
+}  // namespace
+
 RollPitchYaw RollPitchYawFromRotation(const Eigen::Matrix3d& R) {
+  if (!R.allFinite() || std::abs(R.determinant() - 1.0) > 1e-6) {
+    throw std::invalid_argument("not a rotation matrix (determinant " +
+                                std::to_string(R.determinant()) + ")");
+  }
   RollPitchYaw rpy;
   // atan2 of both terms rather than asin(-R20): accurate near +/-90 deg, where asin is not.
   const double cos_pitch = std::hypot(R(0, 0), R(1, 0));
   rpy.pitch = std::atan2(-R(2, 0), cos_pitch);
   if (cos_pitch > 1e-9) {
-    rpy.roll = std::atan2(R(2, 1), R(2, 2));
-    rpy.yaw = std::atan2(R(1, 0), R(0, 0));
+    rpy.roll = Wrap(std::atan2(R(2, 1), R(2, 2)));
+    rpy.yaw = Wrap(std::atan2(R(1, 0), R(0, 0)));
   } else {
     // Gimbal lock: R depends on yaw - roll (pitch +90) or yaw + roll (pitch -90) only.
     rpy.roll = 0.0;
-    rpy.yaw = std::atan2(-R(0, 1), R(1, 1));
+    rpy.yaw = Wrap(std::atan2(-R(0, 1), R(1, 1)));
   }
   return rpy;
 }
@@ -32,7 +46,7 @@ Eigen::Isometry3d MakeTransform(const Eigen::Vector3d& translation, const RollPi
   return T;
 }
 
-Eigen::Matrix3d RotationBodyOptical() {
+Eigen::Matrix3d R_body_optical() {
   Eigen::Matrix3d R;
   // Columns: optical x (right) = -body y, optical y (down) = -body z, optical z (forward) = body x.
   R << 0, 0, 1,  //
@@ -43,7 +57,7 @@ Eigen::Matrix3d RotationBodyOptical() {
 
 Eigen::Isometry3d T_body_optical() {
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.linear() = RotationBodyOptical();
+  T.linear() = R_body_optical();
   return T;
 }
 

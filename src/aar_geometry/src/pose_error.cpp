@@ -30,7 +30,7 @@ PoseError ComputePoseError(const Eigen::Isometry3d& T_tanker_truth,
   const Eigen::Matrix3d R_truth_tanker = T_tanker_truth.linear().transpose();
   error.position_m =
       R_truth_tanker * (T_tanker_estimate.translation() - T_tanker_truth.translation());
-  error.orientation = RollPitchYawFromRotation(R_truth_tanker * T_tanker_estimate.linear());
+  error.orientation_rad = RollPitchYawFromRotation(R_truth_tanker * T_tanker_estimate.linear());
   return error;
 }
 

@@ -22,7 +22,9 @@ void AddTriangle(TriangleMesh& mesh, int a, int b, int c) {
 }  // namespace
 
 TriangleMesh MakeBox(const Eigen::Vector3d& size, const std::string& part) {
-  if (!(size.array() > 0.0).all()) throw std::invalid_argument("box size must be positive");
+  if (!(size.array() > 0.0).all() || !size.allFinite()) {
+    throw std::invalid_argument("box size must be positive and finite");
+  }
   TriangleMesh mesh = OnePart(part);
   const Eigen::Vector3d h = 0.5 * size;
   // Vertex i has x = bit0, y = bit1, z = bit2 (0 -> -h, 1 -> +h).
@@ -45,8 +47,8 @@ TriangleMesh MakeBox(const Eigen::Vector3d& size, const std::string& part) {
 }
 
 TriangleMesh MakeCylinder(double radius, double length, int segments, const std::string& part) {
-  if (!(radius > 0.0) || !(length > 0.0)) {
-    throw std::invalid_argument("cylinder radius and length must be positive");
+  if (!(radius > 0.0) || !(length > 0.0) || !std::isfinite(radius) || !std::isfinite(length)) {
+    throw std::invalid_argument("cylinder radius and length must be positive and finite");
   }
   if (segments < 3) throw std::invalid_argument("cylinder needs at least 3 segments");
   TriangleMesh mesh = OnePart(part);
@@ -72,7 +74,9 @@ TriangleMesh MakeCylinder(double radius, double length, int segments, const std:
 }
 
 TriangleMesh MakeSphere(double radius, int subdivisions, const std::string& part) {
-  if (!(radius > 0.0)) throw std::invalid_argument("sphere radius must be positive");
+  if (!(radius > 0.0) || !std::isfinite(radius)) {
+    throw std::invalid_argument("sphere radius must be positive and finite");
+  }
   if (subdivisions < 0 || subdivisions > 6) {
     throw std::invalid_argument("sphere subdivisions must be in [0, 6]");
   }

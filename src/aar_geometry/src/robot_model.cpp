@@ -80,10 +80,27 @@ std::vector<std::string> PackageRoots(const RobotModelOptions& options) {
   return roots;
 }
 
+// The <name> of a package.xml, or "" if it has none.
+std::string PackageName(const fs::path& package_xml) {
+  std::ifstream in(package_xml);
+  std::stringstream text;
+  text << in.rdbuf();
+  const std::string s = text.str();
+  const size_t open = s.find("<name>");
+  const size_t close = open == std::string::npos ? std::string::npos : s.find("</name>", open);
+  if (close == std::string::npos) return "";
+  std::string name = s.substr(open + 6, close - open - 6);
+  const size_t b = name.find_first_not_of(" \t\r\n"), e = name.find_last_not_of(" \t\r\n");
+  return b == std::string::npos ? "" : name.substr(b, e - b + 1);
+}
+
 std::string FindPackage(const std::string& package, const std::vector<std::string>& roots) {
   std::function<std::string(const fs::path&, int)> search = [&](const fs::path& dir, int depth) {
     std::error_code ec;
-    if (dir.filename() == package && fs::exists(dir / "package.xml", ec)) return dir.string();
+    if (fs::exists(dir / "package.xml", ec)) {
+      // A package: its name decides; packages do not nest.
+      return PackageName(dir / "package.xml") == package ? dir.string() : std::string();
+    }
     if (depth == 0) return std::string();
     for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
       if (it->is_directory(ec)) {
@@ -94,7 +111,7 @@ std::string FindPackage(const std::string& package, const std::vector<std::strin
     return std::string();
   };
   for (const auto& root : roots) {
-    const std::string found = search(fs::path(root), 4);
+    const std::string found = search(fs::path(root).lexically_normal(), 4);
     if (!found.empty()) return found;
   }
   return "";
@@ -309,6 +326,7 @@ TriangleMesh RobotMesh(const RobotModel& model,
                        const std::map<std::string, Eigen::Isometry3d>& T_root_links,
                        GeometryKind kind) {
   TriangleMesh out;
+  std::map<std::string, std::string> owner;  // element name -> link that used it first
   for (const auto& link : model.links) {
     const auto pose = T_root_links.find(link.name);
     if (pose == T_root_links.end()) {
@@ -316,7 +334,14 @@ TriangleMesh RobotMesh(const RobotModel& model,
     }
     const auto& elements = kind == GeometryKind::kVisual ? link.visuals : link.collisions;
     for (const auto& element : elements) {
-      out.Append(element.mesh, pose->second * element.T_link_geometry);
+      const auto [it, first] = owner.emplace(element.name, link.name);
+      if (first || it->second == link.name) {
+        out.Append(element.mesh, pose->second * element.T_link_geometry);
+      } else {  // another link's element has this name: keep the parts apart
+        TriangleMesh renamed = element.mesh;
+        for (auto& name : renamed.part_names) name = link.name + "/" + name;
+        out.Append(renamed, pose->second * element.T_link_geometry);
+      }
     }
   }
   return out;

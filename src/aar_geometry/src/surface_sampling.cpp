@@ -26,9 +26,14 @@ SurfaceSamples SampleSurface(const TriangleMesh& mesh, const SurfaceSamplingOpti
   if (options.num_points == 0 && !(options.points_per_m2 > 0.0)) {
     throw std::invalid_argument("sampling needs num_points > 0 or points_per_m2 > 0");
   }
-  const size_t count = options.num_points > 0
-                           ? options.num_points
-                           : static_cast<size_t>(std::llround(total * options.points_per_m2));
+  const double wanted = options.num_points > 0 ? static_cast<double>(options.num_points)
+                                               : std::round(total * options.points_per_m2);
+  if (!(wanted >= 1.0) || !(wanted <= 1e9)) {
+    throw std::invalid_argument("sampling " + std::to_string(total) + " m^2 at " +
+                                std::to_string(options.points_per_m2) + " points/m^2 gives " +
+                                std::to_string(wanted) + " points: need 1 to 1e9");
+  }
+  const size_t count = static_cast<size_t>(wanted);
 
   std::mt19937_64 rng(options.seed);
   SurfaceSamples samples;

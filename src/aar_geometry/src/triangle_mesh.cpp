@@ -19,6 +19,8 @@ int TriangleMesh::FindPart(const std::string& name) const {
 }
 
 void TriangleMesh::Append(const TriangleMesh& other, const Eigen::Isometry3d& T_this_other) {
+  other.Validate();
+  const bool mirrored = T_this_other.linear().determinant() < 0.0;
   const int offset = static_cast<int>(vertices.size());
   vertices.reserve(vertices.size() + other.vertices.size());
   for (const auto& v : other.vertices) vertices.push_back(T_this_other * v);
@@ -29,7 +31,9 @@ void TriangleMesh::Append(const TriangleMesh& other, const Eigen::Isometry3d& T_
   triangles.reserve(triangles.size() + other.triangles.size());
   triangle_parts.reserve(triangle_parts.size() + other.triangles.size());
   for (size_t t = 0; t < other.triangles.size(); ++t) {
-    triangles.push_back(other.triangles[t].array() + offset);
+    Eigen::Vector3i tri = other.triangles[t].array() + offset;
+    if (mirrored) std::swap(tri[1], tri[2]);  // keep normals pointing out
+    triangles.push_back(tri);
     triangle_parts.push_back(part_map.at(other.triangle_parts[t]));
   }
 }
@@ -88,10 +92,16 @@ void TriangleMesh::Validate() const {
 TriangleMesh Transformed(const TriangleMesh& mesh, const Eigen::Isometry3d& T_new_old) {
   TriangleMesh out = mesh;
   for (auto& v : out.vertices) v = T_new_old * v;
+  if (T_new_old.linear().determinant() < 0.0) {
+    for (auto& t : out.triangles) std::swap(t[1], t[2]);  // a mirror: keep normals pointing out
+  }
   return out;
 }
 
 TriangleMesh Scaled(const TriangleMesh& mesh, const Eigen::Vector3d& scale) {
+  if (!scale.allFinite() || (scale.array() == 0.0).any()) {
+    throw std::invalid_argument("scale factors must be finite and non-zero");
+  }
   TriangleMesh out = mesh;
   for (auto& v : out.vertices) v = v.cwiseProduct(scale);
   if (scale.prod() < 0.0) {
@@ -101,6 +111,7 @@ TriangleMesh Scaled(const TriangleMesh& mesh, const Eigen::Vector3d& scale) {
 }
 
 TriangleMesh SelectParts(const TriangleMesh& mesh, const std::vector<std::string>& parts) {
+  mesh.Validate();
   std::vector<bool> keep_part(mesh.part_names.size(), false);
   for (const auto& name : parts) {
     const int p = mesh.FindPart(name);

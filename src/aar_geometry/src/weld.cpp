@@ -1,5 +1,6 @@
 #include "aar_geometry/weld.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <stdexcept>
@@ -8,8 +9,10 @@
 namespace aar_geometry {
 namespace {
 
+using Cell = Eigen::Matrix<int64_t, 3, 1>;
+
 struct CellHash {
-  size_t operator()(const Eigen::Vector3i& c) const {
+  size_t operator()(const Cell& c) const {
     // Large primes spread neighbouring cells over the table.
     return static_cast<size_t>(c.x()) * 73856093u ^ static_cast<size_t>(c.y()) * 19349663u ^
            static_cast<size_t>(c.z()) * 83492791u;
@@ -17,7 +20,7 @@ struct CellHash {
 };
 
 struct CellEqual {
-  bool operator()(const Eigen::Vector3i& a, const Eigen::Vector3i& b) const { return a == b; }
+  bool operator()(const Cell& a, const Cell& b) const { return a == b; }
 };
 
 }  // namespace
@@ -31,21 +34,28 @@ WeldResult WeldVertices(const TriangleMesh& mesh, double epsilon) {
   result.old_to_new.resize(mesh.vertices.size());
 
   // Cells of size epsilon: any vertex within epsilon per axis sits in the same or an adjacent cell.
-  std::unordered_multimap<Eigen::Vector3i, int, CellHash, CellEqual> grid;
+  std::unordered_multimap<Cell, int, CellHash, CellEqual> grid;
   grid.reserve(mesh.vertices.size());
+  double extent = 0.0;
+  for (const auto& v : mesh.vertices) extent = std::max(extent, v.cwiseAbs().maxCoeff());
+  if (extent / epsilon > 1e15) {  // cell numbers must stay exact in double and int64
+    throw std::invalid_argument("weld epsilon " + std::to_string(epsilon) +
+                                " m is too small for coordinates up to " + std::to_string(extent) +
+                                " m");
+  }
   auto cell_of = [epsilon](const Eigen::Vector3d& v) {
-    return Eigen::Vector3i(static_cast<int>(std::floor(v.x() / epsilon)),
-                           static_cast<int>(std::floor(v.y() / epsilon)),
-                           static_cast<int>(std::floor(v.z() / epsilon)));
+    return Cell(static_cast<int64_t>(std::floor(v.x() / epsilon)),
+                static_cast<int64_t>(std::floor(v.y() / epsilon)),
+                static_cast<int64_t>(std::floor(v.z() / epsilon)));
   };
   for (size_t i = 0; i < mesh.vertices.size(); ++i) {
     const Eigen::Vector3d& v = mesh.vertices[i];
-    const Eigen::Vector3i cell = cell_of(v);
+    const Cell cell = cell_of(v);
     int match = -1;
     for (int dx = -1; dx <= 1 && match < 0; ++dx) {
       for (int dy = -1; dy <= 1 && match < 0; ++dy) {
         for (int dz = -1; dz <= 1 && match < 0; ++dz) {
-          auto range = grid.equal_range(cell + Eigen::Vector3i(dx, dy, dz));
+          auto range = grid.equal_range(Cell(cell + Cell(dx, dy, dz)));
           for (auto it = range.first; it != range.second; ++it) {
             if ((result.mesh.vertices[it->second] - v).cwiseAbs().maxCoeff() <= epsilon) {
               match = it->second;

@@ -101,10 +101,37 @@ TEST(Convexity, PrimitivesAreConvexAnLShapeIsNot) {
   EXPECT_FALSE(IsConvex(inverted));
 }
 
+TEST(Adjacency, DegenerateTrianglesHaveNoNeighboursAndOpenTheMesh) {
+  TriangleMesh cube = MakeBox({1.0, 1.0, 1.0});
+  cube.triangles.emplace_back(0, 0, 1);
+  cube.triangle_parts.push_back(0);
+  const TriangleAdjacency adjacency = BuildAdjacency(cube);
+  EXPECT_EQ(adjacency.degenerate_triangles, std::vector<int>{12});
+  EXPECT_EQ(adjacency.neighbors[12], (std::array<int, 3>{-1, -1, -1}));
+  EXPECT_TRUE(adjacency.open_edges.empty());
+  EXPECT_FALSE(adjacency.closed());
+}
+
+TEST(Convexity, TwoSidedSheetIsNotConvex) {
+  TriangleMesh sheet;
+  sheet.AddPart("sheet");
+  sheet.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  sheet.triangles = {{0, 1, 2}, {0, 2, 1}};
+  sheet.triangle_parts = {0, 0};
+  EXPECT_TRUE(BuildAdjacency(sheet).closed());  // documented: closed() cannot see it
+  EXPECT_FALSE(IsConvex(sheet));
+}
+
 TEST(Adjacency, RejectsOutOfRangeIndices) {
   TriangleMesh bad = MakeBox({1.0, 1.0, 1.0});
   bad.triangles[0][2] = 99;
   EXPECT_THROW(BuildAdjacency(bad), std::invalid_argument);
+  EXPECT_THROW(IsConvex(bad), std::invalid_argument);
+  EXPECT_THROW(SelectParts(bad, {"box"}), std::invalid_argument);
+  TriangleMesh short_labels = MakeBox({1.0, 1.0, 1.0});
+  short_labels.triangle_parts.pop_back();
+  TriangleMesh target;
+  EXPECT_THROW(target.Append(short_labels), std::invalid_argument);
 }
 
 }  // namespace

@@ -216,7 +216,15 @@ TEST(LoadMeshErrors, MalformedFiles) {
   const std::string dae(kCubeDae);
   ExpectLoadError(dir.Write("cut.dae", dae.substr(0, dae.size() / 2)), "not a readable mesh");
   // PLY whose header promises more vertices than follow.
-  ExpectLoadError(dir.Write("short.ply", std::string(kCubePly).substr(0, 200)), "");
+  ExpectLoadError(dir.Write("short.ply", std::string(kCubePly).substr(0, 200)),
+                  "face with no vertices");
+  // PLY cut off inside its header (assimp loops forever on it) and COLLADA with a letter in an
+  // index list (assimp's memory runs away): both refused before assimp sees them.
+  ExpectLoadError(dir.Write("header_cut.ply", "ply\nformat ascii"), "PLY header is incomplete");
+  std::string junk(kCubeDae);
+  junk.replace(junk.find("<p>0 2 3"), 8, "<p>0 2 i");
+  ExpectLoadError(dir.Write("junk.dae", junk),
+                  "COLLADA <p> list holds a non-numeric character 'i' (line 16)");
 }
 
 }  // namespace

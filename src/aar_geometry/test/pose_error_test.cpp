@@ -13,9 +13,9 @@ TEST(PoseError, PerfectEstimateHasNoError) {
   EXPECT_NEAR(e.range_m, std::sqrt(30.0 * 30.0 + 16.0 + 18.0 * 18.0), 1e-12);
   EXPECT_EQ(e.region, Region::kC);
   EXPECT_NEAR(e.position_m.norm(), 0.0, 1e-12);
-  EXPECT_NEAR(e.orientation.roll, 0.0, 1e-12);
-  EXPECT_NEAR(e.orientation.pitch, 0.0, 1e-12);
-  EXPECT_NEAR(e.orientation.yaw, 0.0, 1e-12);
+  EXPECT_NEAR(e.orientation_rad.roll, 0.0, 1e-12);
+  EXPECT_NEAR(e.orientation_rad.pitch, 0.0, 1e-12);
+  EXPECT_NEAR(e.orientation_rad.yaw, 0.0, 1e-12);
 }
 
 TEST(PoseError, PositionErrorIsInTheTrueBodyFrame) {
@@ -46,18 +46,18 @@ TEST(PoseError, OrientationErrorIsRelativeToTruth) {
   Eigen::Isometry3d estimate = truth;
   estimate.linear() = truth.linear() * Eigen::AngleAxisd(DegToRad(3.0), Eigen::Vector3d::UnitX());
   PoseError e = ComputePoseError(truth, estimate);
-  EXPECT_NEAR(RadToDeg(e.orientation.roll), 3.0, 1e-9);
-  EXPECT_NEAR(RadToDeg(e.orientation.pitch), 0.0, 1e-9);
-  EXPECT_NEAR(RadToDeg(e.orientation.yaw), 0.0, 1e-9);
+  EXPECT_NEAR(RadToDeg(e.orientation_rad.roll), 3.0, 1e-9);
+  EXPECT_NEAR(RadToDeg(e.orientation_rad.pitch), 0.0, 1e-9);
+  EXPECT_NEAR(RadToDeg(e.orientation_rad.yaw), 0.0, 1e-9);
   EXPECT_EQ(e.region, Region::kA);
 
   // Hand-computed composite: yaw error 2 deg, then pitch error -1 deg about the new y.
   estimate.linear() =
       truth.linear() * RotationFromRollPitchYaw({0.0, DegToRad(-1.0), DegToRad(2.0)});
   e = ComputePoseError(truth, estimate);
-  EXPECT_NEAR(RadToDeg(e.orientation.roll), 0.0, 1e-9);
-  EXPECT_NEAR(RadToDeg(e.orientation.pitch), -1.0, 1e-9);
-  EXPECT_NEAR(RadToDeg(e.orientation.yaw), 2.0, 1e-9);
+  EXPECT_NEAR(RadToDeg(e.orientation_rad.roll), 0.0, 1e-9);
+  EXPECT_NEAR(RadToDeg(e.orientation_rad.pitch), -1.0, 1e-9);
+  EXPECT_NEAR(RadToDeg(e.orientation_rad.yaw), 2.0, 1e-9);
 }
 
 TEST(PoseError, SignsAreEstimateMinusTruth) {
@@ -66,7 +66,7 @@ TEST(PoseError, SignsAreEstimateMinusTruth) {
       MakeTransform({-40.2, 0.1, -14.95}, {0.0, 0.0, DegToRad(-0.5)});
   const PoseError e = ComputePoseError(truth, estimate);
   EXPECT_TRUE(e.position_m.isApprox(Eigen::Vector3d(-0.2, 0.1, 0.05), 1e-9));
-  EXPECT_NEAR(RadToDeg(e.orientation.yaw), -0.5, 1e-9);
+  EXPECT_NEAR(RadToDeg(e.orientation_rad.yaw), -0.5, 1e-9);
 }
 
 TEST(Regions, Boundaries) {

@@ -69,21 +69,32 @@ TEST(Pose, ExactlyNinetyPitchRebuildsTheRotation) {
 }
 
 TEST(Pose, OpticalFrameConvention) {
-  const Eigen::Matrix3d R = RotationBodyOptical();
+  const Eigen::Matrix3d R = R_body_optical();
   EXPECT_TRUE((R * Eigen::Vector3d::UnitZ()).isApprox(Eigen::Vector3d::UnitX()));   // forward
   EXPECT_TRUE((R * Eigen::Vector3d::UnitX()).isApprox(-Eigen::Vector3d::UnitY()));  // right
   EXPECT_TRUE((R * Eigen::Vector3d::UnitY()).isApprox(-Eigen::Vector3d::UnitZ()));  // down
   EXPECT_NEAR(R.determinant(), 1.0, 1e-15);
-  // Body -> optical and back is the identity; tf's static_transform_publisher quaternion for
-  // this rotation is (x, y, z, w) = (-0.5, 0.5, -0.5, 0.5).
-  EXPECT_TRUE(
-      (T_body_optical().inverse() * T_body_optical()).isApprox(Eigen::Isometry3d::Identity()));
+  // The transform carries the same rotation and no offset; tf's static_transform_publisher
+  // quaternion for it is (x, y, z, w) = (-0.5, 0.5, -0.5, 0.5).
+  EXPECT_EQ(T_body_optical().linear(), R);
+  EXPECT_EQ(T_body_optical().translation(), Eigen::Vector3d::Zero());
   const Eigen::Quaterniond q(R);
   const Eigen::Vector4d expected(-0.5, 0.5, -0.5, 0.5);
   EXPECT_TRUE(q.coeffs().isApprox(expected) || q.coeffs().isApprox(-expected))
       << q.coeffs().transpose();
   // REP-103's optical frame is roll -90, pitch 0, yaw -90 from the body frame.
   EXPECT_TRUE(RotationFromRollPitchYaw({DegToRad(-90.0), 0.0, DegToRad(-90.0)}).isApprox(R, 1e-12));
+}
+
+TEST(Pose, AnglesStayInRangeAndReflectionsAreRejected) {
+  // Yaw of exactly 180 deg: atan2 of a -0.0 sine would say -180.
+  Eigen::Matrix3d R = RotationFromRollPitchYaw({0.0, 0.0, M_PI});
+  R(1, 0) = -0.0;
+  EXPECT_EQ(RollPitchYawFromRotation(R).yaw, M_PI);
+  Eigen::Matrix3d mirror = Eigen::Matrix3d::Identity();
+  mirror(1, 1) = -1.0;
+  EXPECT_THROW(RollPitchYawFromRotation(mirror), std::invalid_argument);
+  EXPECT_THROW(RollPitchYawFromRotation(2.0 * Eigen::Matrix3d::Identity()), std::invalid_argument);
 }
 
 TEST(Pose, MakeTransformPlacesAndTurns) {

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <limits>
+
 #include "aar_geometry/adjacency.h"
 
 namespace aar_geometry {
@@ -54,6 +56,29 @@ TEST(Primitives, RejectNonsenseSizes) {
   EXPECT_THROW(MakeCylinder(-1.0, 1.0), std::invalid_argument);
   EXPECT_THROW(MakeCylinder(1.0, 1.0, 2), std::invalid_argument);
   EXPECT_THROW(MakeSphere(std::nan(""), 1), std::invalid_argument);
+  EXPECT_THROW(MakeBox({1.0, std::numeric_limits<double>::infinity(), 1.0}), std::invalid_argument);
+  EXPECT_THROW(MakeCylinder(std::numeric_limits<double>::infinity(), 1.0), std::invalid_argument);
+}
+
+// Normals point out after a mirror, whether through Transformed, Append or Scaled.
+TEST(Primitives, MirrorsKeepNormalsOutward) {
+  Eigen::Isometry3d mirror = Eigen::Isometry3d::Identity();
+  mirror.linear()(1, 1) = -1.0;
+  mirror.translation() << 5.0, 0.0, 0.0;
+  const TriangleMesh box = MakeBox({1.0, 2.0, 3.0});
+  TriangleMesh appended;
+  appended.Append(box, mirror);
+  for (const TriangleMesh& m :
+       {Transformed(box, mirror), appended, Scaled(box, {1.0, -1.0, 1.0})}) {
+    const Eigen::Vector3d centre = m.Bounds().center();
+    for (size_t t = 0; t < m.triangles.size(); ++t) {
+      const auto& tri = m.triangles[t];
+      const Eigen::Vector3d c =
+          (m.vertices[tri[0]] + m.vertices[tri[1]] + m.vertices[tri[2]]) / 3.0;
+      EXPECT_GT(m.TriangleNormal(static_cast<int>(t)).dot(c - centre), 0.0);
+    }
+  }
+  EXPECT_THROW(Scaled(box, {1.0, 0.0, 1.0}), std::invalid_argument);
 }
 
 }  // namespace

@@ -134,6 +134,47 @@ TEST(RobotModel, ParsesTextWithMeshesRelativeToBaseDir) {
                         "robot_description", "not a valid URDF");
 }
 
+TEST(RobotModel, PackagesAreFoundByTheirNameNotTheirFolder) {
+  // A copy of the package in a folder of another name, reached through a root with a trailing /.
+  test::TempDir dir;
+  std::filesystem::create_directories(dir.Path("ws/renamed_folder/test/data"));
+  std::filesystem::copy_file(test::DataPath("cube.stl"),
+                             dir.Path("ws/renamed_folder/test/data/cube.stl"));
+  dir.Write("ws/renamed_folder/package.xml",
+            "<package format=\"3\"><name>aar_geometry</name></package>");
+  RobotModelOptions options;
+  options.package_paths = {dir.Path("ws/")};
+  const RobotModel model = LoadRobotModel(test::DataPath("boom_primitives.urdf"), options);
+  EXPECT_EQ(model.FindLink("nozzle")->visuals[1].source,
+            dir.Path("ws/renamed_folder/test/data/cube.stl"));
+}
+
+TEST(RobotModel, SameElementNameOnTwoLinksStaysTwoParts) {
+  test::TempDir dir;
+  const RobotModel model = LoadRobotModel(dir.Write("twins.urdf", R"(<robot name="r">
+    <link name="a"><collision name="part"><geometry><box size="1 1 1"/></geometry></collision></link>
+    <joint name="j" type="fixed"><parent link="a"/><child link="b"/><origin xyz="3 0 0"/></joint>
+    <link name="b"><collision name="part"><geometry><box size="1 1 1"/></geometry></collision></link>
+  </robot>)"));
+  const TriangleMesh mesh = RobotMesh(model, ComputeLinkPoses(model), GeometryKind::kCollision);
+  EXPECT_EQ(mesh.part_names.size(), 2u);
+  EXPECT_EQ(SelectParts(mesh, {mesh.part_names[0]}).triangles.size(), 12u);
+}
+
+TEST(RobotModel, NegativeMeshScaleKeepsNormalsOutward) {
+  test::TempDir dir;
+  const std::string urdf = dir.Write("mirror.urdf", R"(<robot name="r"><link name="a">
+    <visual><geometry><mesh filename=")" + test::DataPath("cube.stl") +
+                                                        R"(" scale="1 -1 1"/></geometry></visual>
+  </link></robot>)");
+  const TriangleMesh m = LoadRobotModel(urdf).FindLink("a")->visuals[0].mesh;
+  for (size_t t = 0; t < m.triangles.size(); ++t) {
+    const auto& tri = m.triangles[t];
+    const Eigen::Vector3d c = (m.vertices[tri[0]] + m.vertices[tri[1]] + m.vertices[tri[2]]) / 3.0;
+    EXPECT_GT(m.TriangleNormal(static_cast<int>(t)).dot(c), 0.0);
+  }
+}
+
 TEST(RobotModelErrors, MissingEmptyAndNotXml) {
   test::TempDir dir;
   ExpectLoadError(dir.Path("absent.urdf"), "No such file");

@@ -73,6 +73,15 @@ TEST(Weld, KeepsPartLabels) {
   EXPECT_EQ(welded.mesh.triangle_parts, (std::vector<int>{0, 1}));
 }
 
+TEST(Weld, FarFromTheOriginStaysCorrect) {
+  // 3000 km out: cell numbers beyond 32 bits.
+  TriangleMesh mesh = TwoTriangles({0.5e-4, 0.0, 0.0});
+  for (auto& v : mesh.vertices) v += Eigen::Vector3d(3e6, -3e6, 1e6);
+  EXPECT_EQ(WeldVertices(mesh).mesh.vertices.size(), 4u);
+  // An epsilon too small to number the cells exactly is refused, not mis-welded.
+  EXPECT_THROW(WeldVertices(mesh, 1e-12), std::invalid_argument);
+}
+
 TEST(Weld, RejectsBadEpsilon) {
   EXPECT_THROW(WeldVertices(TwoTriangles({0, 0, 0}), 0.0), std::invalid_argument);
   EXPECT_THROW(WeldVertices(TwoTriangles({0, 0, 0}), std::nan("")), std::invalid_argument);

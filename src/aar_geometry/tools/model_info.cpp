@@ -32,6 +32,14 @@ void Usage() {
                "  --samples-csv  write samples as x,y,z,nx,ny,nz,part\n";
 }
 
+// RFC 4180: quote a field holding a comma, quote or line break; double the quotes.
+std::string CsvField(const std::string& s) {
+  if (s.find_first_of(",\"\r\n") == std::string::npos) return s;
+  std::string quoted = "\"";
+  for (char c : s) quoted += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return quoted + "\"";
+}
+
 bool EndsWith(const std::string& s, const std::string& suffix) {
   return s.size() >= suffix.size() &&
          s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
@@ -41,12 +49,12 @@ void ReportMesh(const TriangleMesh& mesh, double weld_epsilon) {
   const WeldResult welded = WeldVertices(mesh, weld_epsilon);
   const TriangleAdjacency adjacency = BuildAdjacency(welded.mesh);
   const Eigen::AlignedBox3d box = mesh.Bounds();
-  std::cout << std::fixed << std::setprecision(4);
   std::cout << "triangles: " << mesh.triangles.size() << "\n"
             << "vertices: " << mesh.vertices.size() << " (" << welded.mesh.vertices.size()
             << " after welding within " << weld_epsilon << " m; " << welded.removed_triangles
             << " degenerate triangles removed)\n"
-            << "surface area [m^2]: " << mesh.SurfaceArea() << "\n"
+            << std::fixed << std::setprecision(4) << "surface area [m^2]: " << mesh.SurfaceArea()
+            << "\n"
             << "bounds min [m]: " << box.min().transpose() << "\n"
             << "bounds max [m]: " << box.max().transpose() << "\n"
             << "open edges: " << adjacency.open_edges.size()
@@ -106,6 +114,9 @@ int main(int argc, char** argv) {
       }
     }
     if (file.empty()) throw std::invalid_argument("no FILE given");
+    if (!samples_csv.empty() && sampling.num_points == 0) {
+      throw std::invalid_argument("--samples-csv needs --samples N");
+    }
   } catch (const std::exception& e) {
     std::cerr << "model_info: " << e.what() << "\n";
     Usage();
@@ -143,7 +154,7 @@ int main(int argc, char** argv) {
           const auto& p = samples.points[i];
           const auto& n = samples.normals[i];
           out << p.x() << ',' << p.y() << ',' << p.z() << ',' << n.x() << ',' << n.y() << ','
-              << n.z() << ',' << mesh.part_names[samples.parts[i]] << '\n';
+              << n.z() << ',' << CsvField(mesh.part_names[samples.parts[i]]) << '\n';
         }
         std::cout << "wrote " << samples_csv << "\n";
       }

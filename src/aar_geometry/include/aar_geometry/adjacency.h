@@ -21,13 +21,17 @@ struct Edge {
 struct TriangleAdjacency {
   std::vector<std::array<int, 3>> vertices;
   std::vector<std::array<int, 3>> neighbors;
-  std::vector<Edge> open_edges;          // used by one triangle: the boundary of an open mesh
-  std::vector<Edge> nonmanifold_edges;   // used by three or more triangles
-  std::vector<Edge> inconsistent_edges;  // two triangles that run the edge the same way (flipped)
+  std::vector<Edge> open_edges;           // used by one triangle: the boundary of an open mesh
+  std::vector<Edge> nonmanifold_edges;    // used by three or more triangles
+  std::vector<Edge> inconsistent_edges;   // two triangles that run the edge the same way (flipped)
+  std::vector<int> degenerate_triangles;  // a repeated vertex index: no edges, no neighbours
 
-  // Watertight and consistently wound: the precondition of silhouettes and shadow volumes.
+  // Watertight and consistently wound: the precondition of silhouettes and shadow volumes. (A
+  // two-sided sheet, each triangle doubled with the opposite winding, also passes: it encloses
+  // no volume; IsConvex rejects it.)
   bool closed() const {
-    return open_edges.empty() && nonmanifold_edges.empty() && inconsistent_edges.empty();
+    return open_edges.empty() && nonmanifold_edges.empty() && inconsistent_edges.empty() &&
+           degenerate_triangles.empty();
   }
 };
 
@@ -37,7 +41,8 @@ TriangleAdjacency BuildAdjacency(const TriangleMesh& mesh);
 
 // True when no vertex lies more than `tolerance` [m] outside the plane of any non-degenerate
 // triangle: for a closed, outward-wound mesh, that it bounds a convex volume (what point
-// inclusion by planes needs).
+// inclusion by planes needs). O(triangles x vertices): meant for the dozen-part collision models.
+// Throws std::invalid_argument for a malformed mesh.
 bool IsConvex(const TriangleMesh& mesh, double tolerance = 1e-6);
 
 }  // namespace aar_geometry

@@ -21,7 +21,9 @@ struct RollPitchYaw {
 Eigen::Matrix3d RotationFromRollPitchYaw(const RollPitchYaw& rpy);
 
 // Inverse of RotationFromRollPitchYaw with pitch in [-pi/2, pi/2] and roll, yaw in (-pi, pi].
-// At pitch = +/-90 deg only roll -/+ yaw is defined: roll is then reported as 0.
+// At pitch = +/-90 deg only roll -/+ yaw is defined: roll is then reported as 0. Note the order:
+// Eigen's eulerAngles(2, 1, 0) gives (yaw, pitch, roll). Throws std::invalid_argument for a
+// matrix that is not a rotation (determinant off 1 by more than 1e-6, or not finite).
 RollPitchYaw RollPitchYawFromRotation(const Eigen::Matrix3d& R);
 
 // Pose from a position [m] and attitude [rad], e.g. one flight-path row.
@@ -29,7 +31,7 @@ Eigen::Isometry3d MakeTransform(const Eigen::Vector3d& translation, const RollPi
 
 // REP-103: a body frame is x forward, y left, z up; the optical frame of a camera on it is
 // z forward, x right, y down. R_body_optical maps optical coordinates into the body frame.
-Eigen::Matrix3d RotationBodyOptical();
+Eigen::Matrix3d R_body_optical();
 Eigen::Isometry3d T_body_optical();
 
 }  // namespace aar_geometry

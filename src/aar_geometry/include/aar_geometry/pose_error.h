@@ -28,7 +28,7 @@ struct PoseError {
   // Estimate minus truth along the true receiver body axes: R_truth^T (t_est - t_truth) [m].
   Eigen::Vector3d position_m = Eigen::Vector3d::Zero();
   // Roll, pitch, yaw of R_truth^T * R_estimate [rad].
-  RollPitchYaw orientation;
+  RollPitchYaw orientation_rad;
 };
 
 PoseError ComputePoseError(const Eigen::Isometry3d& T_tanker_truth,

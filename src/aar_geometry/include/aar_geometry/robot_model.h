@@ -10,10 +10,10 @@ namespace aar_geometry {
 
 // One <visual> or <collision> element, its geometry already turned into a mesh.
 struct GeometryElement {
-  std::string name;                   // the element's name attribute, else "<link>/<kind><index>"
-  std::string source;                 // "box", "cylinder", "sphere", or the resolved mesh path
-  Eigen::Isometry3d T_link_geometry;  // the element's <origin>
-  TriangleMesh mesh;                  // in the geometry frame, URDF mesh scale applied
+  std::string name;    // the element's name attribute, else "<link>/<kind><index>"
+  std::string source;  // "box", "cylinder", "sphere", or the resolved mesh path
+  Eigen::Isometry3d T_link_geometry = Eigen::Isometry3d::Identity();  // the element's <origin>
+  TriangleMesh mesh;  // in the geometry frame, URDF mesh scale applied
 };
 
 struct Link {
@@ -53,8 +53,8 @@ struct RobotModel {
 struct RobotModelOptions {
   int cylinder_segments = 32;   // facets around URDF cylinders
   int sphere_subdivisions = 2;  // icosphere level of URDF spheres (320 triangles)
-  // Roots searched for package://NAME/... (a root that is the package, or holds it up to four
-  // folders deep). Empty: the folders of the ROS_PACKAGE_PATH environment variable.
+  // Roots searched for package://NAME/... : a folder whose package.xml says <name>NAME</name>,
+  // the root itself or up to four folders below it. Empty: the folders of ROS_PACKAGE_PATH.
   std::vector<std::string> package_paths;
 };
 
@@ -71,15 +71,17 @@ RobotModel ParseRobotModel(const std::string& xml, const std::string& source,
                            const std::string& base_dir, const RobotModelOptions& options = {});
 
 // T_root_link for every link at the given joint positions ([rad] or [m]); joints not listed stay
-// at 0 (floating and planar joints are held at their origin). Throws std::invalid_argument for a
-// name that is not a movable joint of the model, or a value that is not finite.
+// at 0, even where 0 is outside their limits (floating and planar joints are held at their
+// origin; <mimic> is not followed). Positions are not clamped to the limits. Throws
+// std::invalid_argument for a name that is not a movable joint of the model, or a value that is not
+// finite.
 std::map<std::string, Eigen::Isometry3d> ComputeLinkPoses(
     const RobotModel& model, const std::map<std::string, double>& joint_positions = {});
 
 enum class GeometryKind { kVisual, kCollision };
 
 // Every element of the kind placed in the root frame at the given link poses, one part per
-// element, named as GeometryElement::name.
+// element, named as GeometryElement::name, or "<link>/<name>" where two links use one name.
 TriangleMesh RobotMesh(const RobotModel& model,
                        const std::map<std::string, Eigen::Isometry3d>& T_root_links,
                        GeometryKind kind);

@@ -25,7 +25,8 @@ struct SurfaceSamples {
   size_t size() const { return points.size(); }
 };
 
-// Throws std::invalid_argument for a mesh with no area or options asking for no points.
+// Throws std::invalid_argument for a mesh with no area, or options that give fewer than one or
+// more than 1e9 points.
 SurfaceSamples SampleSurface(const TriangleMesh& mesh, const SurfaceSamplingOptions& options = {});
 
 }  // namespace aar_geometry

@@ -24,11 +24,12 @@ struct TriangleMesh {
   // Index of a part, or -1.
   int FindPart(const std::string& name) const;
 
-  // Appends other's triangles mapped through T_this_other; parts with the same name are merged.
+  // Appends other's triangles mapped through T_this_other (a mirror keeps normals pointing out);
+  // parts with the same name are merged. Throws std::invalid_argument if `other` is malformed.
   void Append(const TriangleMesh& other,
               const Eigen::Isometry3d& T_this_other = Eigen::Isometry3d::Identity());
 
-  // Unit normal from the winding; zero for a degenerate triangle.
+  // Unit normal from the winding; zero for a degenerate triangle. `triangle` must be valid.
   Eigen::Vector3d TriangleNormal(int triangle) const;
   double TriangleArea(int triangle) const;  // [m^2]
   double SurfaceArea() const;               // [m^2]
@@ -38,14 +39,16 @@ struct TriangleMesh {
   void Validate() const;
 };
 
+// Maps the vertices through T_new_old; a mirror (determinant -1) reverses the winding so that
+// normals keep pointing out.
 TriangleMesh Transformed(const TriangleMesh& mesh, const Eigen::Isometry3d& T_new_old);
 
-// Scales vertex coordinates per axis; a negative number of flips reverses the winding so that
-// normals keep pointing out.
+// Scales vertex coordinates per axis; an odd number of negative factors reverses the winding so
+// that normals keep pointing out. Throws std::invalid_argument for a zero or non-finite factor.
 TriangleMesh Scaled(const TriangleMesh& mesh, const Eigen::Vector3d& scale);
 
 // The triangles whose part is in `parts` (unused vertices dropped). Throws std::invalid_argument
-// naming any part the mesh does not have.
+// naming any part the mesh does not have, or if the mesh is malformed.
 TriangleMesh SelectParts(const TriangleMesh& mesh, const std::vector<std::string>& parts);
 
 }  // namespace aar_geometry
