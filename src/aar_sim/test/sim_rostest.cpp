@@ -130,9 +130,9 @@ TEST(Sim, ShippedYamlLoads) {
   EXPECT_NEAR(o.world.rig.baseline, 0.5, 1e-12);
   EXPECT_NEAR(o.rate, 10.0, 1e-12);
   EXPECT_FALSE(o.lockstep);
-  // DESIGN mount: about 20 m aft and 3 m below the tanker origin.
+  // DESIGN mount: about 20 m aft and 3 m below the tanker origin; 1 m left of the boom plane.
   const Eigen::Vector3d centre = o.world.rig.T_tanker_left_optical * Eigen::Vector3d(0.25, 0, 0);
-  EXPECT_TRUE(centre.isApprox(Eigen::Vector3d(-20.0, 0.0, -3.0), 1e-9));
+  EXPECT_TRUE(centre.isApprox(Eigen::Vector3d(-20.0, 1.0, -3.0), 1e-9));
 }
 
 // Runs sim_node with extra arguments (and environment assignments `env`) and returns its exit

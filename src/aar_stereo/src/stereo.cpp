@@ -64,6 +64,26 @@ void StereoGeometry::Validate() const {
                       std::to_string(Tx) + ": not the right camera of a rectified pair");
 }
 
+cv::Rect ProjectedRoi(const std::vector<Eigen::Vector3d>& points, const StereoGeometry& g,
+                      int margin) {
+  const cv::Rect full(0, 0, g.width, g.height);
+  double u0 = 1e18, u1 = -1e18, v0 = 1e18, v1 = -1e18;
+  for (const auto& p : points) {
+    if (!(p.z() > 0.0)) return full;  // behind the camera: its projection is unbounded
+    const double u = g.fx * p.x() / p.z() + g.cx_left, v = g.fy * p.y() / p.z() + g.cy;
+    u0 = std::min(u0, u), u1 = std::max(u1, u), v0 = std::min(v0, v), v1 = std::max(v1, v);
+  }
+  if (points.empty()) return full;
+  const auto clamp = [](double x, int hi) {
+    return static_cast<int>(std::clamp(x, -1.0, static_cast<double>(hi + 1)));
+  };
+  const int x0 = clamp(std::floor(u0) - margin, g.width),
+            x1 = clamp(std::ceil(u1) + margin + 1, g.width);
+  const int y0 = clamp(std::floor(v0) - margin, g.height),
+            y1 = clamp(std::ceil(v1) + margin + 1, g.height);
+  return cv::Rect(x0, y0, std::max(0, x1 - x0), std::max(0, y1 - y0)) & full;
+}
+
 StereoProcessor::StereoProcessor(const StereoOptions& options) : options_(options) {
   options_.Validate();
 }
@@ -164,14 +184,17 @@ StereoResult StereoProcessor::Process(const cv::Mat& left, const cv::Mat& right,
   CloudPoints& cloud = result.cloud;
   auto add = [&](size_t i) {
     cloud.xyz.push_back(points[i]);
+    cloud.pixel.push_back(pixel_of_point[i]);
     if (o.intensity) cloud.intensity.push_back(left.data[pixel_of_point[i]]);
   };
   if (o.decimation == Decimation::kNone && o.organized) {
     const float nan = std::numeric_limits<float>::quiet_NaN();
     cloud.xyz.assign(static_cast<size_t>(left.rows) * left.cols, Eigen::Vector3f(nan, nan, nan));
+    cloud.pixel.assign(cloud.xyz.size(), -1);
     if (o.intensity) cloud.intensity.assign(cloud.xyz.size(), 0.0f);
     for (size_t i = 0; i < points.size(); ++i) {
       cloud.xyz[pixel_of_point[i]] = points[i];
+      cloud.pixel[pixel_of_point[i]] = pixel_of_point[i];
       if (o.intensity) cloud.intensity[pixel_of_point[i]] = left.data[pixel_of_point[i]];
     }
     cloud.width = left.cols;
@@ -203,6 +226,7 @@ StereoResult StereoProcessor::Process(const cv::Mat& left, const cv::Mat& right,
                 [](const Cell* a, const Cell* b) { return a->order < b->order; });
       for (const Cell* c : ordered) {
         cloud.xyz.push_back((c->sum / c->n).cast<float>());
+        cloud.pixel.push_back(pixel_of_point[c->order]);
         if (o.intensity) cloud.intensity.push_back(static_cast<float>(c->intensity / c->n));
       }
     } else {

@@ -158,6 +158,11 @@ TEST(Stereo, RangeCutDecimationAndOrganizedCloud) {
   const StereoResult decimated = StereoProcessor(every8).Process(left, right, g);
   EXPECT_EQ(decimated.cloud.xyz.size(), static_cast<size_t>((full.valid_pixels + 7) / 8));
   EXPECT_EQ(decimated.cloud.xyz[1], full.cloud.xyz[8]);
+  EXPECT_EQ(decimated.cloud.pixel[1], full.cloud.pixel[8]);
+  const int px = decimated.cloud.pixel[1];  // the point reprojects to the pixel it came from
+  const Eigen::Vector3f& p = decimated.cloud.xyz[1];
+  EXPECT_NEAR(g.fx * p.x() / p.z() + g.cx_left, px % g.width, 1e-3);
+  EXPECT_NEAR(g.fy * p.y() / p.z() + g.cy, px / g.width, 1e-3);
 
   StereoOptions voxels = all;
   voxels.decimation = Decimation::kVoxelGrid;
@@ -201,6 +206,19 @@ TEST(Stereo, RegionOfInterestMatchesTheFullImageInside) {
     }
   // Speckle filtering sees regions cut at the roi border; elsewhere the values are identical.
   EXPECT_LT(differ, inside / 100) << differ << " of " << inside;
+}
+
+TEST(Stereo, ProjectedRoiBoundsTheProjections) {
+  const StereoGeometry g = Geometry();
+  const std::vector<Eigen::Vector3d> box = {{-1, -1, 20}, {1, 1, 20}, {-1, 1, 22}, {1, -1, 22}};
+  const cv::Rect roi = ProjectedRoi(box, g, 5);
+  const double f = g.fx;
+  EXPECT_NEAR(roi.x, std::floor(g.cx_left - f / 20.0) - 5, 1.0);
+  EXPECT_NEAR(roi.x + roi.width, std::ceil(g.cx_left + f / 20.0) + 6, 1.0);
+  EXPECT_NEAR(roi.y, std::floor(g.cy - f / 20.0) - 5, 1.0);
+  // Behind the camera: everything; out of view: nothing.
+  EXPECT_EQ(ProjectedRoi({{0, 0, -1}, {1, 1, 10}}, g, 0), cv::Rect(0, 0, g.width, g.height));
+  EXPECT_EQ(ProjectedRoi({{100, 0, 10}, {101, 0, 10}}, g, 0).area(), 0);
 }
 
 TEST(StereoErrors, BadImagesGeometryAndOptions) {

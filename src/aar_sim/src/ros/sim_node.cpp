@@ -51,7 +51,7 @@ SimNodeOptions LoadSimNodeOptions(const ros::NodeHandle& nh) {
   const double hfov = Param(nh, "hfov_deg", 60.0, known);
   const double baseline = Param(nh, "baseline", 0.5, known);
   const Eigen::Vector3d mount(Param(nh, "camera_x", -20.0, known),
-                              Param(nh, "camera_y", 0.0, known),
+                              Param(nh, "camera_y", 1.0, known),
                               Param(nh, "camera_z", -3.0, known));
   const double yaw = Param(nh, "camera_yaw_deg", 180.0, known);
   const double pitch = Param(nh, "camera_pitch_deg", 25.0, known);

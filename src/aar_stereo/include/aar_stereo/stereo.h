@@ -60,6 +60,8 @@ struct StereoGeometry {
 struct CloudPoints {
   std::vector<Eigen::Vector3f> xyz;  // [m] in the left optical frame; NaN where organized+invalid
   std::vector<float> intensity;      // [0, 255] when requested
+  std::vector<int> pixel;            // row-major left-image pixel each point came from (voxel
+                                     // grid: its first point's); -1 where organized+invalid
   int width = 0, height = 1;         // organized: image size; else (size, 1)
 };
 
@@ -73,6 +75,12 @@ struct StereoResult {
   int valid_pixels = 0;  // disparity valid and within max_range
   StereoTimings timings;
 };
+
+// The smallest rectangle holding the projections of `points` (left optical frame [m]) grown by
+// `margin` [px] and clipped to the image: the region of interest for Process. The whole image if
+// a point is not in front of the camera; empty if all project outside.
+cv::Rect ProjectedRoi(const std::vector<Eigen::Vector3d>& points, const StereoGeometry& geometry,
+                      int margin);
 
 // Disparity and point cloud from a rectified mono8 pair. `roi` restricts matching to a region
 // of the left image (the rest is invalid); an empty roi means the whole image.
