@@ -108,6 +108,132 @@ TEST(Compare, DisparityAndCloudMatchStereoImageProc) {
   }
 }
 
+// A textured 160x120 pair seen 8 px apart, and its camera infos.
+struct Pair {
+  sensor_msgs::Image left, right;
+  sensor_msgs::CameraInfo left_info, right_info;
+};
+
+Pair GoodPair(const ros::Time& stamp) {
+  Pair p;
+  for (auto* image : {&p.left, &p.right}) {
+    image->header.stamp = stamp;
+    image->header.frame_id = "stereo_left_optical";
+    image->width = 160;
+    image->height = 120;
+    image->encoding = sensor_msgs::image_encodings::MONO8;
+    image->step = 160;
+    image->data.resize(160 * 120);
+  }
+  uint32_t state = 12345;
+  for (int v = 0; v < 120; ++v)
+    for (int u = 0; u < 168; ++u) {
+      state = state * 1664525u + 1013904223u;
+      const uint8_t value = static_cast<uint8_t>(40 + (state >> 24) % 170);
+      if (u < 160) p.left.data[v * 160 + u] = value;  // right(u) = left(u + 8)
+      if (u >= 8) p.right.data[v * 160 + u - 8] = value;
+    }
+  for (auto* info : {&p.left_info, &p.right_info}) {
+    info->header = p.left.header;
+    info->width = 160;
+    info->height = 120;
+    info->P = {100.0, 0, 79.5, 0, 0, 100.0, 59.5, 0, 0, 0, 1, 0};
+  }
+  p.right_info.P[3] = -100.0 * 0.5;
+  return p;
+}
+
+struct BadInputFixture {
+  ros::NodeHandle nh;
+  ros::Publisher left = nh.advertise<sensor_msgs::Image>("/bad/left/image_rect", 5);
+  ros::Publisher right = nh.advertise<sensor_msgs::Image>("/bad/right/image_rect", 5);
+  ros::Publisher left_info = nh.advertise<sensor_msgs::CameraInfo>("/bad/left/camera_info", 5);
+  ros::Publisher right_info = nh.advertise<sensor_msgs::CameraInfo>("/bad/right/camera_info", 5);
+  Collector<sensor_msgs::PointCloud2> points{nh, "/bad/points2"};
+  std::mutex log_mutex;
+  std::vector<std::string> errors;
+  ros::Subscriber rosout = nh.subscribe<rosgraph_msgs::Log>(
+      "/rosout", 100, [this](const rosgraph_msgs::Log::ConstPtr& m) {
+        if (m->level >= rosgraph_msgs::Log::ERROR && m->name == "/bad/aar_stereo") {
+          std::lock_guard<std::mutex> lock(log_mutex);
+          errors.push_back(m->msg);
+        }
+      });
+
+  void Publish(const Pair& p) {
+    left.publish(p.left);
+    left_info.publish(p.left_info);
+    right.publish(p.right);
+    right_info.publish(p.right_info);
+  }
+  // True once an error containing `text` was logged, within `seconds`.
+  bool ErrorLogged(const std::string& text, double seconds) {
+    const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(seconds);
+    while (ros::WallTime::now() < deadline) {
+      {
+        std::lock_guard<std::mutex> lock(log_mutex);
+        for (const auto& e : errors)
+          if (e.find(text) != std::string::npos) return true;
+      }
+      ros::WallDuration(0.05).sleep();
+    }
+    return false;
+  }
+};
+
+TEST(BadInput, ErrorsAreNamedFramesSkippedNodeAlive) {
+  BadInputFixture f;
+  // Wait for the node to subscribe (lazily, once points2 has our subscriber).
+  const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(20.0);
+  auto connected = [&f] {
+    return f.left.getNumSubscribers() > 0 && f.right.getNumSubscribers() > 0 &&
+           f.left_info.getNumSubscribers() > 0 && f.right_info.getNumSubscribers() > 0 &&
+           f.rosout.getNumPublishers() > 0;
+  };
+  while (ros::WallTime::now() < deadline && !connected()) ros::WallDuration(0.05).sleep();
+  ASSERT_TRUE(connected()) << "aar_stereo never subscribed to all four inputs";
+  ros::WallDuration(0.5).sleep();
+  double t = 100.0;
+
+  Pair sizes = GoodPair(ros::Time(t += 1));
+  sizes.right.width = 80;
+  sizes.right.step = 80;
+  sizes.right.data.resize(80 * 120);
+  f.Publish(sizes);
+  EXPECT_TRUE(f.ErrorLogged("left image is 160x120, right 80x120", 5.0));
+
+  Pair color = GoodPair(ros::Time(t += 1));
+  color.left.encoding = sensor_msgs::image_encodings::RGB8;
+  f.Publish(color);
+  EXPECT_TRUE(f.ErrorLogged("encoding 'rgb8'", 7.0));
+
+  Pair no_p = GoodPair(ros::Time(t += 1));
+  no_p.left_info.P.fill(0.0);
+  f.Publish(no_p);
+  EXPECT_TRUE(f.ErrorLogged("no valid projection matrix P", 7.0));
+  EXPECT_EQ(f.points.size(), 0u) << "a bad frame produced a cloud";
+
+  // Stamps that never match: right half a second behind, for 7 s.
+  for (int i = 0; i < 35; ++i) {
+    Pair apart = GoodPair(ros::Time(t += 1));
+    apart.right.header.stamp += ros::Duration(0.5);
+    apart.right_info.header.stamp += ros::Duration(0.5);
+    f.Publish(apart);
+    ros::WallDuration(0.2).sleep();
+  }
+  EXPECT_TRUE(f.ErrorLogged("stamps never match", 5.0));
+  EXPECT_EQ(f.points.size(), 0u);
+
+  // Still alive: a good frame gives a cloud.
+  const ros::Time good(t += 1);
+  f.Publish(GoodPair(good));
+  const ros::WallTime until = ros::WallTime::now() + ros::WallDuration(5.0);
+  while (ros::WallTime::now() < until && f.points.size() == 0) ros::WallDuration(0.05).sleep();
+  ASSERT_EQ(f.points.size(), 1u) << "no cloud for a good frame after the bad ones";
+  std::lock_guard<std::mutex> lock(f.points.mutex);
+  EXPECT_GT(f.points.by_stamp.at(good)->width, 100u);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {

@@ -179,8 +179,17 @@ void StereoNode::OnFrame(const Image::ConstPtr& left, const Info::ConstPtr& left
       std::lock_guard<std::mutex> stats(stats_mutex_);
       last_error_ = e.what();
     }
-    ROS_ERROR_STREAM_THROTTLE(5.0,
-                              "stereo: frame " << left->header.stamp << " skipped: " << e.what());
+    // Throttled per reason, not per call site: a new problem is reported at once.
+    const ros::WallTime now = ros::WallTime::now();
+    bool report;
+    {
+      std::lock_guard<std::mutex> stats(stats_mutex_);
+      ros::WallTime& last = last_reported_[e.what()];
+      report = last.isZero() || now - last > ros::WallDuration(5.0);
+      if (report) last = now;
+    }
+    if (report)
+      ROS_ERROR_STREAM("stereo: frame " << left->header.stamp << " skipped: " << e.what());
   }
   diagnostics_.update();
 }

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <atomic>
+#include <map>
 #include <memory>
 #include <mutex>
 
@@ -80,6 +81,7 @@ class StereoNode {
   StereoTimings last_timings_;
   size_t last_points_ = 0;
   std::string last_error_;
+  std::map<std::string, ros::WallTime> last_reported_;  // error text -> when last logged
 };
 
 }  // namespace aar_stereo
