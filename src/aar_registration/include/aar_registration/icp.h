@@ -1,0 +1,64 @@
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+namespace aar_registration {
+
+enum class IcpMetric { kPointToPoint, kPointToPlane };
+
+struct IcpOptions {
+  IcpMetric metric = IcpMetric::kPointToPoint;  // thesis
+  int max_iterations = 30;                      // thesis
+  double max_correspondence_distance = 1.0;     // [m] farther pairs are rejected
+  double min_rms_improvement =
+      1e-5;                      // [m] converged when RMS falls by less (thesis: stops improving)
+  double rms_epsilon = 1e-4;     // [m] stop when RMS falls below
+  int min_correspondences = 10;  // fewer: not converged
+};
+
+// T_target_source maps source points onto the target.
+struct RegistrationResult {
+  Eigen::Isometry3d T_target_source = Eigen::Isometry3d::Identity();
+  bool converged = false;  // stopped by the RMS criteria with enough correspondences
+  int iterations = 0;
+  double rms = 0.0;      // [m] over the correspondences of the last iteration
+  double fitness = 0.0;  // share of source points with a correspondence
+  int correspondences = 0;
+};
+
+// Iterative closest point against a fixed target whose KD-tree is built once by SetTarget and
+// reused for every Align until the target changes.
+class Icp {
+ public:
+  explicit Icp(const IcpOptions& options);  // throws std::invalid_argument for nonsense options
+  ~Icp();
+  Icp(Icp&&) noexcept;
+  Icp& operator=(Icp&&) noexcept;
+
+  // Point-to-plane needs one unit normal per target point. Throws std::invalid_argument for an
+  // empty target, non-finite points or missing normals.
+  void SetTarget(std::vector<Eigen::Vector3d> points, std::vector<Eigen::Vector3d> normals = {});
+  bool has_target() const;
+
+  // Throws std::invalid_argument without a target; an empty source gives converged = false.
+  RegistrationResult Align(const std::vector<Eigen::Vector3d>& source,
+                           const Eigen::Isometry3d& T_target_source_guess) const;
+
+  const IcpOptions& options() const { return options_; }
+
+ private:
+  struct Target;
+  IcpOptions options_;
+  std::unique_ptr<Target> target_;
+};
+
+// The thesis's seed for T_tanker_receiver: the tanker's orientation, and a position that puts the
+// reference model's centroid on the sensed points' centroid (points in the tanker and receiver
+// frames). Throws std::invalid_argument for an empty cloud.
+Eigen::Isometry3d CentroidSeed(const std::vector<Eigen::Vector3d>& sensed_in_tanker,
+                               const std::vector<Eigen::Vector3d>& reference_in_receiver);
+
+}  // namespace aar_registration

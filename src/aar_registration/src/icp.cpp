@@ -1,0 +1,166 @@
+#include "aar_registration/icp.h"
+
+#include <cmath>
+#include <stdexcept>
+
+#include <Eigen/Cholesky>
+#include <Eigen/SVD>
+#include <nanoflann.hpp>
+
+namespace aar_registration {
+namespace {
+
+struct PointSet {
+  std::vector<Eigen::Vector3d> pts;
+  size_t kdtree_get_point_count() const { return pts.size(); }
+  double kdtree_get_pt(size_t i, size_t dim) const { return pts[i][static_cast<int>(dim)]; }
+  template <class Box>
+  bool kdtree_get_bbox(Box&) const {
+    return false;
+  }
+};
+
+using KdTree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, PointSet>,
+                                                   PointSet, 3>;
+
+Eigen::Vector3d Centroid(const std::vector<Eigen::Vector3d>& points) {
+  if (points.empty()) throw std::invalid_argument("centroid of an empty cloud");
+  Eigen::Vector3d c = Eigen::Vector3d::Zero();
+  for (const auto& p : points) c += p;
+  return c / static_cast<double>(points.size());
+}
+
+}  // namespace
+
+struct Icp::Target {
+  PointSet set;
+  std::vector<Eigen::Vector3d> normals;
+  std::unique_ptr<KdTree> tree;
+};
+
+Icp::Icp(const IcpOptions& options) : options_(options) {
+  if (options.max_iterations < 1) throw std::invalid_argument("max_iterations must be at least 1");
+  if (!(options.max_correspondence_distance > 0.0)) {
+    throw std::invalid_argument("max_correspondence_distance must be positive");
+  }
+  if (options.min_correspondences < 3)
+    throw std::invalid_argument("min_correspondences must be at least 3");
+}
+
+Icp::~Icp() = default;
+Icp::Icp(Icp&&) noexcept = default;
+Icp& Icp::operator=(Icp&&) noexcept = default;
+
+bool Icp::has_target() const { return target_ && target_->tree; }
+
+void Icp::SetTarget(std::vector<Eigen::Vector3d> points, std::vector<Eigen::Vector3d> normals) {
+  if (points.empty()) throw std::invalid_argument("ICP target is empty");
+  for (const auto& p : points) {
+    if (!p.allFinite()) throw std::invalid_argument("ICP target holds a non-finite point");
+  }
+  if (options_.metric == IcpMetric::kPointToPlane && normals.size() != points.size()) {
+    throw std::invalid_argument("point-to-plane ICP needs a normal per target point");
+  }
+  auto target = std::make_unique<Target>();
+  target->set.pts = std::move(points);
+  target->normals = std::move(normals);
+  target->tree =
+      std::make_unique<KdTree>(3, target->set, nanoflann::KDTreeSingleIndexAdaptorParams(10));
+  target->tree->buildIndex();
+  target_ = std::move(target);
+}
+
+RegistrationResult Icp::Align(const std::vector<Eigen::Vector3d>& source,
+                              const Eigen::Isometry3d& guess) const {
+  if (!has_target()) throw std::invalid_argument("ICP has no target");
+  RegistrationResult result;
+  result.T_target_source = guess;
+  const double max_d2 = options_.max_correspondence_distance * options_.max_correspondence_distance;
+  double previous_rms = std::numeric_limits<double>::infinity();
+  std::vector<std::pair<Eigen::Vector3d, size_t>> pairs;  // transformed source point, target index
+  pairs.reserve(source.size());
+
+  for (int iteration = 1; iteration <= options_.max_iterations; ++iteration) {
+    result.iterations = iteration;
+    pairs.clear();
+    double sum_d2 = 0.0;
+    for (const auto& s : source) {
+      if (!s.allFinite()) continue;
+      const Eigen::Vector3d p = result.T_target_source * s;
+      size_t index = 0;
+      double d2 = 0.0;
+      nanoflann::KNNResultSet<double> nearest(1);
+      nearest.init(&index, &d2);
+      target_->tree->findNeighbors(nearest, p.data(), nanoflann::SearchParams());
+      if (d2 > max_d2) continue;
+      pairs.emplace_back(p, index);
+      sum_d2 += d2;
+    }
+    result.correspondences = static_cast<int>(pairs.size());
+    result.fitness = source.empty() ? 0.0 : static_cast<double>(pairs.size()) / source.size();
+    if (result.correspondences < options_.min_correspondences) {
+      result.converged = false;
+      result.rms = pairs.empty() ? 0.0 : std::sqrt(sum_d2 / pairs.size());
+      return result;
+    }
+    result.rms = std::sqrt(sum_d2 / pairs.size());
+    // Converged once the RMS stops falling. A rise is no convergence: point-to-plane steps can
+    // overshoot far from the solution (point-to-point never rises).
+    const double improvement = previous_rms - result.rms;
+    if (result.rms < options_.rms_epsilon ||
+        (improvement >= 0.0 && improvement < options_.min_rms_improvement)) {
+      result.converged = true;
+      return result;
+    }
+    previous_rms = result.rms;
+
+    // One step: the rigid motion (in the target frame) that best moves the pairs together.
+    Eigen::Isometry3d step = Eigen::Isometry3d::Identity();
+    const auto& tp = target_->set.pts;
+    if (options_.metric == IcpMetric::kPointToPoint) {
+      Eigen::Vector3d cs = Eigen::Vector3d::Zero(), ct = Eigen::Vector3d::Zero();
+      for (const auto& [p, i] : pairs) cs += p, ct += tp[i];
+      cs /= pairs.size();
+      ct /= pairs.size();
+      Eigen::Matrix3d H = Eigen::Matrix3d::Zero();
+      for (const auto& [p, i] : pairs) H += (p - cs) * (tp[i] - ct).transpose();
+      const Eigen::JacobiSVD<Eigen::Matrix3d> svd(H, Eigen::ComputeFullU | Eigen::ComputeFullV);
+      Eigen::Matrix3d D = Eigen::Matrix3d::Identity();
+      D(2, 2) = (svd.matrixV() * svd.matrixU().transpose()).determinant() < 0.0
+                    ? -1.0
+                    : 1.0;  // no reflection
+      step.linear() = svd.matrixV() * D * svd.matrixU().transpose();
+      step.translation() = ct - step.linear() * cs;
+    } else {
+      // Linearised point-to-plane: minimise sum (n . (p + w x p + t - q))^2 over (w, t).
+      Eigen::Matrix<double, 6, 6> A = Eigen::Matrix<double, 6, 6>::Zero();
+      Eigen::Matrix<double, 6, 1> b = Eigen::Matrix<double, 6, 1>::Zero();
+      for (const auto& [p, i] : pairs) {
+        const Eigen::Vector3d& n = target_->normals[i];
+        Eigen::Matrix<double, 6, 1> J;
+        J << p.cross(n), n;
+        A += J * J.transpose();
+        b -= J * n.dot(p - tp[i]);
+      }
+      const Eigen::Matrix<double, 6, 1> x = A.ldlt().solve(b);
+      if (!x.allFinite()) return result;  // degenerate geometry (a plane): not converged
+      const Eigen::Vector3d w = x.head<3>();
+      step.linear() = (w.norm() > 0.0 ? Eigen::AngleAxisd(w.norm(), w.normalized())
+                                      : Eigen::AngleAxisd::Identity())
+                          .toRotationMatrix();
+      step.translation() = x.tail<3>();
+    }
+    result.T_target_source = step * result.T_target_source;
+  }
+  result.converged = false;  // out of iterations while still improving
+  return result;
+}
+
+Eigen::Isometry3d CentroidSeed(const std::vector<Eigen::Vector3d>& sensed_in_tanker,
+                               const std::vector<Eigen::Vector3d>& reference_in_receiver) {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();  // the tanker's orientation
+  T.translation() = Centroid(sensed_in_tanker) - Centroid(reference_in_receiver);
+  return T;
+}
+
+}  // namespace aar_registration

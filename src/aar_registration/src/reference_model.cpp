@@ -1,0 +1,123 @@
+#include "aar_registration/reference_model.h"
+
+#include <algorithm>
+#include <stdexcept>
+
+#include <embree3/rtcore.h>
+
+#include <aar_geometry/surface_sampling.h>
+
+namespace aar_registration {
+
+ReferenceCloud ReferenceCloud::Subset(const std::vector<bool>& keep) const {
+  ReferenceCloud out;
+  out.part_names = part_names;
+  for (size_t i = 0; i < points.size(); ++i) {
+    if (!keep[i]) continue;
+    out.points.push_back(points[i]);
+    out.normals.push_back(normals[i]);
+    out.parts.push_back(parts[i]);
+  }
+  return out;
+}
+
+ReferenceCloud ReferenceCloud::Select(const std::vector<std::string>& wanted) const {
+  std::vector<bool> part_kept(part_names.size(), false);
+  for (const auto& name : wanted) {
+    const auto it = std::find(part_names.begin(), part_names.end(), name);
+    if (it == part_names.end())
+      throw std::invalid_argument("reference model has no part '" + name + "'");
+    part_kept[it - part_names.begin()] = true;
+  }
+  std::vector<bool> keep(points.size());
+  for (size_t i = 0; i < points.size(); ++i) keep[i] = part_kept[parts[i]];
+  return Subset(keep);
+}
+
+ReferenceCloud SampleReceiver(const aar_geometry::TriangleMesh& receiver,
+                              const ReferenceModelOptions& options) {
+  aar_geometry::SurfaceSamplingOptions sampling;
+  sampling.points_per_m2 = options.points_per_m2;
+  sampling.seed = options.seed;
+  const aar_geometry::SurfaceSamples samples = aar_geometry::SampleSurface(receiver, sampling);
+  ReferenceCloud cloud;
+  cloud.points = samples.points;
+  cloud.normals = samples.normals;
+  cloud.parts = samples.parts;
+  cloud.part_names = receiver.part_names;
+  return cloud;
+}
+
+struct VisibilityTester::Bvh {
+  RTCDevice device = nullptr;
+  RTCScene scene = nullptr;
+};
+
+VisibilityTester::VisibilityTester(const aar_geometry::TriangleMesh& mesh)
+    : bvh_(std::make_unique<Bvh>()) {
+  mesh.Validate();
+  bvh_->device = rtcNewDevice("threads=1");  // deterministic, and the caller owns the cores
+  if (!bvh_->device) throw std::runtime_error("Embree device could not be created");
+  bvh_->scene = rtcNewScene(bvh_->device);
+  RTCGeometry geometry = rtcNewGeometry(bvh_->device, RTC_GEOMETRY_TYPE_TRIANGLE);
+  auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0,
+                                                               RTC_FORMAT_FLOAT3, 3 * sizeof(float),
+                                                               mesh.vertices.size()));
+  for (size_t i = 0; i < mesh.vertices.size(); ++i) {
+    for (int k = 0; k < 3; ++k) vertices[3 * i + k] = static_cast<float>(mesh.vertices[i][k]);
+  }
+  auto* indices = static_cast<unsigned*>(
+      rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                              3 * sizeof(unsigned), mesh.triangles.size()));
+  for (size_t t = 0; t < mesh.triangles.size(); ++t) {
+    for (int k = 0; k < 3; ++k) indices[3 * t + k] = static_cast<unsigned>(mesh.triangles[t][k]);
+  }
+  rtcCommitGeometry(geometry);
+  rtcAttachGeometry(bvh_->scene, geometry);
+  rtcReleaseGeometry(geometry);
+  rtcCommitScene(bvh_->scene);
+}
+
+VisibilityTester::~VisibilityTester() {
+  if (bvh_->scene) rtcReleaseScene(bvh_->scene);
+  if (bvh_->device) rtcReleaseDevice(bvh_->device);
+}
+
+std::vector<bool> VisibilityTester::Visible(const std::vector<Eigen::Vector3d>& points,
+                                            const std::vector<Eigen::Vector3d>& normals,
+                                            const Eigen::Vector3d& eye, double tolerance) const {
+  std::vector<bool> visible(points.size(), false);
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  for (size_t i = 0; i < points.size(); ++i) {
+    const Eigen::Vector3d to_point = points[i] - eye;
+    const double distance = to_point.norm();
+    if (!(distance > tolerance) || normals[i].dot(to_point) >= 0.0) continue;  // faces away
+    const Eigen::Vector3d d = to_point / distance;
+    RTCRay ray{};
+    ray.org_x = static_cast<float>(eye.x());
+    ray.org_y = static_cast<float>(eye.y());
+    ray.org_z = static_cast<float>(eye.z());
+    ray.dir_x = static_cast<float>(d.x());
+    ray.dir_y = static_cast<float>(d.y());
+    ray.dir_z = static_cast<float>(d.z());
+    ray.tnear = 0.0f;
+    ray.tfar = static_cast<float>(distance - tolerance);
+    ray.mask = 0xffffffff;
+    rtcOccluded1(bvh_->scene, &context, &ray);
+    visible[i] = ray.tfar >= 0.0f;  // Embree sets tfar to -inf when something is hit
+  }
+  return visible;
+}
+
+ReferenceCloud Shell(const ReferenceCloud& dense, const VisibilityTester& receiver,
+                     const std::vector<Eigen::Vector3d>& eyes, double tolerance) {
+  std::vector<bool> keep(dense.size(), true);
+  for (const auto& eye : eyes) {
+    const std::vector<bool> seen = receiver.Visible(dense.points, dense.normals, eye, tolerance);
+    for (size_t i = 0; i < keep.size(); ++i) keep[i] = keep[i] && seen[i];
+  }
+  return dense.Subset(keep);
+}
+
+}  // namespace aar_registration
