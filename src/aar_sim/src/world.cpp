@@ -14,6 +14,15 @@ RendererOptions WithRigIntrinsics(RendererOptions renderer, const StereoRig& rig
 
 }  // namespace
 
+WorldOptions DefaultWorldOptions(const std::string& models_dir) {
+  WorldOptions o;
+  o.receiver_mesh = models_dir + "/receiver.obj";
+  o.boom_urdf = models_dir + "/boom.urdf";
+  o.urdf.package_paths = {models_dir + "/../.."};
+  o.rig = MakeStereoRig(CameraIntrinsics::FromHorizontalFov(1280, 960, 60.0), 0.5);
+  return o;
+}
+
 World::World(const WorldOptions& options)
     : options_(options),
       receiver_(aar_geometry::LoadMesh(options.receiver_mesh)),

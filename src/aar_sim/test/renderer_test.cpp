@@ -11,11 +11,7 @@ namespace aar_sim {
 namespace {
 
 WorldOptions TestWorld(bool boom_visible, double noise = 0.0) {
-  WorldOptions o;
-  const std::string models = std::string(AAR_SIM_SOURCE_DIR) + "/models";
-  o.receiver_mesh = models + "/receiver.obj";
-  o.boom_urdf = models + "/boom.urdf";
-  o.urdf.package_paths = {std::filesystem::path(AAR_SIM_SOURCE_DIR).parent_path().string()};
+  WorldOptions o = DefaultWorldOptions(std::string(AAR_SIM_SOURCE_DIR) + "/models");
   o.rig = MakeStereoRig(CameraIntrinsics::FromHorizontalFov(640, 480, 60.0), 0.5);
   o.renderer.noise_stddev = noise;
   o.boom_visible = boom_visible;
@@ -92,8 +88,8 @@ void CheckProjection(World& world, const FlightPathRow& row, int min_checked) {
 }
 
 TEST(Renderer, LabelMatchesProjectedVerticesNearAndFar) {
-  WorldOptions options = TestWorld(false);
-  options.rig = MakeStereoRig(CameraIntrinsics::FromHorizontalFov(1280, 960, 60.0), 0.5);
+  WorldOptions options = DefaultWorldOptions(std::string(AAR_SIM_SOURCE_DIR) + "/models");
+  options.boom_visible = false;
   World world(options);
   CheckProjection(world, Receiver(-36.0, 0.0, -10.5, 0.0), 5000);
   CheckProjection(world, Receiver(-60.0, 3.0, -18.0, 8.0), 1000);

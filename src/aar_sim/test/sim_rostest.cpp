@@ -19,26 +19,13 @@
 #include "aar_sim/boom_model.h"
 #include "aar_sim/flight_path.h"
 #include "aar_sim/ros/sim_node.h"
+#include "aar_sim/ros/stamped_collector.h"
 
 namespace aar_sim {
 namespace {
 
 template <typename Msg>
-struct Collector {
-  std::mutex mutex;
-  std::map<ros::Time, boost::shared_ptr<const Msg>> by_stamp;
-  ros::Subscriber sub;
-  Collector(ros::NodeHandle& nh, const std::string& topic) {
-    sub = nh.subscribe<Msg>(topic, 20, [this](const boost::shared_ptr<const Msg>& m) {
-      std::lock_guard<std::mutex> lock(mutex);
-      by_stamp[m->header.stamp] = m;
-    });
-  }
-  size_t size() {
-    std::lock_guard<std::mutex> lock(mutex);
-    return by_stamp.size();
-  }
-};
+using Collector = aar_sim::StampedCollector<Msg>;
 
 Eigen::Isometry3d ToEigen(const geometry_msgs::Transform& t) {
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();

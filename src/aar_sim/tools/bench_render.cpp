@@ -15,13 +15,8 @@ int main(int argc, char** argv) {
                                                "/../../config/flight_paths/approach_default.csv";
   const int pairs = argc > 2 ? std::stoi(argv[2]) : 20;
   try {
-    aar_sim::WorldOptions options;
-    const std::string models = std::string(AAR_SIM_SOURCE_DIR) + "/models";
-    options.receiver_mesh = models + "/receiver.obj";
-    options.boom_urdf = models + "/boom.urdf";
-    options.urdf.package_paths = {std::string(AAR_SIM_SOURCE_DIR) + "/.."};
-    options.rig =
-        aar_sim::MakeStereoRig(aar_sim::CameraIntrinsics::FromHorizontalFov(1280, 960, 60.0), 0.5);
+    aar_sim::WorldOptions options =
+        aar_sim::DefaultWorldOptions(std::string(AAR_SIM_SOURCE_DIR) + "/models");
     options.renderer.noise_stddev =
         std::getenv("AAR_BENCH_NOISE") ? std::stod(std::getenv("AAR_BENCH_NOISE")) : 2.0;
     aar_sim::World world(options);

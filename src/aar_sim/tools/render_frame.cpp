@@ -22,13 +22,8 @@ int main(int argc, char** argv) {
     return 2;
   }
   try {
-    aar_sim::WorldOptions options;
-    const std::string models = std::string(AAR_SIM_SOURCE_DIR) + "/models";
-    options.receiver_mesh = models + "/receiver.obj";
-    options.boom_urdf = models + "/boom.urdf";
-    options.urdf.package_paths = {std::string(AAR_SIM_SOURCE_DIR) + "/.."};
-    options.rig =
-        aar_sim::MakeStereoRig(aar_sim::CameraIntrinsics::FromHorizontalFov(1280, 960, 60.0), 0.5);
+    aar_sim::WorldOptions options =
+        aar_sim::DefaultWorldOptions(std::string(AAR_SIM_SOURCE_DIR) + "/models");
     options.boom_visible = !(argc > 4 && std::string(argv[4]) == "--no-boom");
     aar_sim::World world(options);
     const auto path = aar_sim::FlightPath::Load(argv[1]);

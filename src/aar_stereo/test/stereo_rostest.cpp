@@ -4,6 +4,7 @@
 #include <map>
 #include <mutex>
 
+#include <aar_sim/ros/stamped_collector.h>
 #include <ros/ros.h>
 #include <rosgraph_msgs/Log.h>
 #include <sensor_msgs/CameraInfo.h>
@@ -16,21 +17,7 @@
 namespace {
 
 template <typename Msg>
-struct Collector {
-  std::mutex mutex;
-  std::map<ros::Time, boost::shared_ptr<const Msg>> by_stamp;
-  ros::Subscriber sub;
-  Collector(ros::NodeHandle& nh, const std::string& topic) {
-    sub = nh.subscribe<Msg>(topic, 10, [this](const boost::shared_ptr<const Msg>& m) {
-      std::lock_guard<std::mutex> lock(mutex);
-      by_stamp[m->header.stamp] = m;
-    });
-  }
-  size_t size() {
-    std::lock_guard<std::mutex> lock(mutex);
-    return by_stamp.size();
-  }
-};
+using Collector = aar_sim::StampedCollector<Msg>;
 
 const float* Floats(const sensor_msgs::Image& image, int v) {
   return reinterpret_cast<const float*>(&image.data[static_cast<size_t>(v) * image.step]);

@@ -75,10 +75,7 @@ int main(int argc, char** argv) {
   const std::string csv = argc > 3 ? argv[3] : "";
   try {
     const std::string sim = std::string(AAR_SIM_SOURCE_DIR);
-    aar_sim::WorldOptions w;
-    w.receiver_mesh = sim + "/models/receiver.obj";
-    w.boom_urdf = sim + "/models/boom.urdf";
-    w.urdf.package_paths = {sim + "/.."};
+    aar_sim::WorldOptions w = aar_sim::DefaultWorldOptions(sim + "/models");
     // AAR_RIG_Y [m] moves the rig sideways (default 1 m left of the boom plane, as aar_sim's).
     const double rig_y = std::getenv("AAR_RIG_Y") ? std::stod(std::getenv("AAR_RIG_Y")) : 1.0;
     w.rig = aar_sim::MakeStereoRig(aar_sim::CameraIntrinsics::FromHorizontalFov(1280, 960, 60.0),

@@ -20,6 +20,11 @@ struct WorldOptions {
   bool boom_visible = true;
 };
 
+// The shipped world: receiver.obj and boom.urdf from `models_dir` (aar_sim's models/, whose
+// parent's parent holds the aar_sim package for package:// look-ups) and the default rig
+// (1280x960, 60 deg, 0.5 m baseline, DESIGN.md mount). Renderer options stay at their defaults.
+WorldOptions DefaultWorldOptions(const std::string& models_dir);
+
 // One rendered stereo pair with the truth that produced it.
 struct StereoFrame {
   RenderedView left, right;
