@@ -20,7 +20,9 @@ double Wrap(double a) { return a <= -M_PI ? a + 2.0 * M_PI : a; }
 }  // namespace
 
 RollPitchYaw RollPitchYawFromRotation(const Eigen::Matrix3d& R) {
-  if (!R.allFinite() || std::abs(R.determinant() - 1.0) > 1e-6) {
+  // 1e-3: rotations that passed through float (PCL, messages) are off by ~1e-6; a reflection
+  // is off by 2 and a scaled matrix by far more.
+  if (!R.allFinite() || std::abs(R.determinant() - 1.0) > 1e-3) {
     throw std::invalid_argument("not a rotation matrix (determinant " +
                                 std::to_string(R.determinant()) + ")");
   }

@@ -23,7 +23,7 @@ Eigen::Matrix3d RotationFromRollPitchYaw(const RollPitchYaw& rpy);
 // Inverse of RotationFromRollPitchYaw with pitch in [-pi/2, pi/2] and roll, yaw in (-pi, pi].
 // At pitch = +/-90 deg only roll -/+ yaw is defined: roll is then reported as 0. Note the order:
 // Eigen's eulerAngles(2, 1, 0) gives (yaw, pitch, roll). Throws std::invalid_argument for a
-// matrix that is not a rotation (determinant off 1 by more than 1e-6, or not finite).
+// matrix that is not a rotation (determinant off 1 by more than 1e-3, or not finite).
 RollPitchYaw RollPitchYawFromRotation(const Eigen::Matrix3d& R);
 
 // Pose from a position [m] and attitude [rad], e.g. one flight-path row.
