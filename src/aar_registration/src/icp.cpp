@@ -4,6 +4,7 @@
 #include <stdexcept>
 
 #include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
 #include <Eigen/SVD>
 #include <nanoflann.hpp>
 
@@ -80,8 +81,8 @@ RegistrationResult Icp::Align(const std::vector<Eigen::Vector3d>& source,
   std::vector<std::pair<Eigen::Vector3d, size_t>> pairs;  // transformed source point, target index
   pairs.reserve(source.size());
 
-  for (int iteration = 1; iteration <= options_.max_iterations; ++iteration) {
-    result.iterations = iteration;
+  // Correspondences of the current transform; RMS and fitness of `result` describe it.
+  auto match = [&]() {
     pairs.clear();
     double sum_d2 = 0.0;
     for (const auto& s : source) {
@@ -98,12 +99,16 @@ RegistrationResult Icp::Align(const std::vector<Eigen::Vector3d>& source,
     }
     result.correspondences = static_cast<int>(pairs.size());
     result.fitness = source.empty() ? 0.0 : static_cast<double>(pairs.size()) / source.size();
+    result.rms = pairs.empty() ? 0.0 : std::sqrt(sum_d2 / pairs.size());
+  };
+
+  for (int iteration = 1; iteration <= options_.max_iterations; ++iteration) {
+    result.iterations = iteration;
+    match();
     if (result.correspondences < options_.min_correspondences) {
       result.converged = false;
-      result.rms = pairs.empty() ? 0.0 : std::sqrt(sum_d2 / pairs.size());
       return result;
     }
-    result.rms = std::sqrt(sum_d2 / pairs.size());
     // Converged once the RMS stops falling. A rise is no convergence: point-to-plane steps can
     // overshoot far from the solution (point-to-point never rises).
     const double improvement = previous_rms - result.rms;
@@ -142,8 +147,14 @@ RegistrationResult Icp::Align(const std::vector<Eigen::Vector3d>& source,
         A += J * J.transpose();
         b -= J * n.dot(p - tp[i]);
       }
+      // A plane or a line leaves motions unconstrained (LDLT would quietly zero them): refuse.
+      const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> eigen(
+          A, Eigen::EigenvaluesOnly);
+      if (!(eigen.eigenvalues()(0) > 1e-9 * eigen.eigenvalues()(5))) {
+        result.converged = false;
+        return result;
+      }
       const Eigen::Matrix<double, 6, 1> x = A.ldlt().solve(b);
-      if (!x.allFinite()) return result;  // degenerate geometry (a plane): not converged
       const Eigen::Vector3d w = x.head<3>();
       step.linear() = (w.norm() > 0.0 ? Eigen::AngleAxisd(w.norm(), w.normalized())
                                       : Eigen::AngleAxisd::Identity())
@@ -152,6 +163,7 @@ RegistrationResult Icp::Align(const std::vector<Eigen::Vector3d>& source,
     }
     result.T_target_source = step * result.T_target_source;
   }
+  match();                   // statistics of the transform returned
   result.converged = false;  // out of iterations while still improving
   return result;
 }

@@ -10,6 +10,8 @@
 namespace aar_registration {
 
 ReferenceCloud ReferenceCloud::Subset(const std::vector<bool>& keep) const {
+  if (keep.size() != points.size())
+    throw std::invalid_argument("Subset: one flag per point needed");
   ReferenceCloud out;
   out.part_names = part_names;
   for (size_t i = 0; i < points.size(); ++i) {
@@ -86,6 +88,8 @@ VisibilityTester::~VisibilityTester() {
 std::vector<bool> VisibilityTester::Visible(const std::vector<Eigen::Vector3d>& points,
                                             const std::vector<Eigen::Vector3d>& normals,
                                             const Eigen::Vector3d& eye, double tolerance) const {
+  if (normals.size() != points.size())
+    throw std::invalid_argument("Visible: one normal per point needed");
   std::vector<bool> visible(points.size(), false);
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);

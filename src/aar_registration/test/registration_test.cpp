@@ -67,6 +67,50 @@ void CheckRecovery(IcpMetric metric) {
 TEST(Icp, PointToPointRecoversRigidMotions) { CheckRecovery(IcpMetric::kPointToPoint); }
 TEST(Icp, PointToPlaneRecoversRigidMotions) { CheckRecovery(IcpMetric::kPointToPlane); }
 
+TEST(Icp, PointToPlaneRefusesAPlane) {
+  // A flat target leaves in-plane motion unconstrained: not converged, rather than a made-up
+  // answer.
+  std::vector<Eigen::Vector3d> plane, normals;
+  for (int i = 0; i < 40; ++i)
+    for (int j = 0; j < 40; ++j) {
+      plane.emplace_back(0.1 * i, 0.1 * j, 0.0);
+      normals.emplace_back(0, 0, 1);
+    }
+  IcpOptions o;
+  o.metric = IcpMetric::kPointToPlane;
+  Icp icp(o);
+  icp.SetTarget(plane, normals);
+  std::vector<Eigen::Vector3d> source;
+  for (const auto& p : plane) source.push_back(p + Eigen::Vector3d(0.7, -0.4, 0.05));
+  EXPECT_FALSE(icp.Align(source, Eigen::Isometry3d::Identity()).converged);
+}
+
+TEST(Icp, StatisticsDescribeTheReturnedTransform) {
+  const ReferenceCloud target = SampleReceiver(Receiver(), ReferenceModelOptions{});
+  IcpOptions o;
+  o.max_iterations = 3;  // stops while still improving
+  o.max_correspondence_distance = 4.0;
+  Icp icp(o);
+  icp.SetTarget(target.points);
+  Eigen::Isometry3d offset = Eigen::Isometry3d::Identity();
+  offset.translation() << 0.8, -0.5, 0.3;
+  std::vector<Eigen::Vector3d> source;
+  for (size_t i = 0; i < target.size(); i += 16) source.push_back(offset * target.points[i]);
+  const RegistrationResult r = icp.Align(source, Eigen::Isometry3d::Identity());
+  ASSERT_FALSE(r.converged);
+  // Brute-force RMS of the returned transform.
+  double sum = 0.0;
+  int n = 0;
+  for (const auto& s : source) {
+    const Eigen::Vector3d p = r.T_target_source * s;
+    double best = 1e18;
+    for (const auto& q : target.points) best = std::min(best, (p - q).squaredNorm());
+    if (best <= 16.0) sum += best, ++n;
+  }
+  EXPECT_EQ(n, r.correspondences);
+  EXPECT_NEAR(std::sqrt(sum / n), r.rms, 1e-9);
+}
+
 TEST(Icp, BadInputs) {
   Icp icp{IcpOptions{}};
   EXPECT_THROW(icp.Align({{0, 0, 0}}, Eigen::Isometry3d::Identity()),

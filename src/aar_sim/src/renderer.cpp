@@ -311,7 +311,8 @@ Renderer::~Renderer() {
     eglMakeCurrent(gl_->display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
     eglDestroyContext(gl_->display, gl_->context);
   }
-  eglTerminate(gl_->display);
+  // No eglTerminate: the display is shared by every renderer of the process, and terminating it
+  // breaks the others (two sim nodelets in one manager, say).
 }
 
 std::string Renderer::gl_renderer() const {

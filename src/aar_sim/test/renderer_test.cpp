@@ -2,6 +2,7 @@
 
 #include <filesystem>
 
+#include <aar_geometry/primitives.h>
 #include <aar_geometry/weld.h>
 
 #include "aar_sim/boom_model.h"
@@ -188,6 +189,22 @@ TEST(Renderer, RightCameraSeesTheSceneShiftedByTheDisparity) {
                                                        rig.T_tanker_left_optical * p);
   EXPECT_NEAR(left.y(), right.y(), 1e-9);
   EXPECT_NEAR(left.x() - right.x(), rig.intrinsics.fx * rig.baseline / p.z(), 1e-9);
+}
+
+TEST(Renderer, TwoRenderersLiveSideBySide) {
+  // Destroying one must not break the other (they share the process's EGL display).
+  RendererOptions o;
+  o.intrinsics = CameraIntrinsics::FromHorizontalFov(64, 48, 60.0);
+  auto first = std::make_unique<Renderer>(o);
+  Renderer second(o);
+  const int box =
+      second.AddMesh(aar_geometry::MakeBox({1, 1, 1}), Label::kReceiver, Surface::kAircraftPaint);
+  first.reset();
+  Eigen::Isometry3d T_object = Eigen::Isometry3d::Identity();
+  T_object.translation() << 0, 0, 5;  // in front of a camera at the origin looking along z
+  const RenderedView view =
+      second.Render(Eigen::Isometry3d::Identity(), {{box, T_object}}, 0, true, false);
+  EXPECT_EQ(view.label.at(32, 24), static_cast<uint8_t>(Label::kReceiver));
 }
 
 TEST(Renderer, MissingModelsAndBadIntrinsicsFailClearly) {

@@ -157,6 +157,9 @@ TEST(Sim, BadInputExitsNonZeroNamingTheProblem) {
       RunSim("__name:=no_urdf _flight_path:=" + path + " _boom_urdf:=/nonexistent/boom.urdf", &log),
       1);
   EXPECT_NE(log.find("/nonexistent/boom.urdf"), std::string::npos) << log;
+  EXPECT_EQ(RunSim("__name:=early _flight_path:=" + path + " _start_time:=-5.0", &log), 1);
+  EXPECT_NE(log.find("start_time -5.000000 s is outside the flight path"), std::string::npos)
+      << log;
   // No EGL vendor library: as on a machine without Mesa's or a GPU's EGL.
   EXPECT_EQ(RunSim("__name:=no_egl _flight_path:=" + path, &log,
                    "__EGL_VENDOR_LIBRARY_FILENAMES=/nonexistent.json"),
@@ -166,7 +169,8 @@ TEST(Sim, BadInputExitsNonZeroNamingTheProblem) {
 
 TEST(Lockstep, NextFrameOnlyAfterTheEstimate) {
   ros::NodeHandle nh;
-  Collector<sensor_msgs::Image> left(nh, "stereo/left/image_rect");
+  Collector<sensor_msgs::Image> left(nh, "stereo/left/image_rect"),
+      right(nh, "stereo/right/image_rect");
   ros::Publisher estimates = nh.advertise<aar_msgs::PoseEstimate>("aar/pose_estimate", 10);
   auto wait_for = [&](size_t n, double seconds) {
     const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(seconds);

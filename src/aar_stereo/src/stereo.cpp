@@ -22,6 +22,11 @@ void Check(bool ok, const std::string& what) {
   if (!ok) throw std::invalid_argument(what);
 }
 
+// Grey level at row-major pixel index `px`; rows may be padded (step > width).
+float Grey(const cv::Mat& image, int px) {
+  return image.ptr<uint8_t>(px / image.cols)[px % image.cols];
+}
+
 }  // namespace
 
 void StereoOptions::Validate() const {
@@ -90,7 +95,7 @@ StereoProcessor::StereoProcessor(const StereoOptions& options) : options_(option
 
 StereoResult StereoProcessor::Process(const cv::Mat& left, const cv::Mat& right,
                                       const StereoGeometry& geometry,
-                                      const cv::Rect& roi_in) const {
+                                      const std::optional<cv::Rect>& roi_in) const {
   const auto t0 = Clock::now();
   Check(!left.empty() && !right.empty(), "empty image");
   Check(left.type() == CV_8UC1 && right.type() == CV_8UC1,
@@ -109,13 +114,23 @@ StereoResult StereoProcessor::Process(const cv::Mat& left, const cv::Mat& right,
   // left by the disparity range) and the block's margins.
   const cv::Rect full(0, 0, left.cols, left.rows);
   cv::Rect match = full;
-  cv::Rect roi = roi_in.area() > 0 ? (roi_in & full) : full;
-  if (roi != full) {
+  const cv::Rect roi = roi_in ? (*roi_in & full) : full;
+  if (roi.area() == 0) {
+    match = cv::Rect();  // nothing predicted in view: nothing to match
+  } else if (roi != full) {
     const int margin = o.block_size / 2 + 1;
     match = cv::Rect(roi.x - o.min_disparity - o.num_disparities - margin, roi.y - margin,
                      roi.width + o.num_disparities + o.min_disparity + 2 * margin,
                      roi.height + 2 * margin) &
             full;
+    // OpenCV refuses images smaller than the block: grow a window clipped at a corner.
+    if (match.width < o.block_size)
+      match.x = std::max(0, std::min(match.x, full.width - o.block_size)),
+      match.width = o.block_size;
+    if (match.height < o.block_size)
+      match.y = std::max(0, std::min(match.y, full.height - o.block_size)),
+      match.height = o.block_size;
+    match &= full;
   }
   cv::Mat disparity16;
   if (match.area() > 0) {
@@ -145,6 +160,9 @@ StereoResult StereoProcessor::Process(const cv::Mat& left, const cv::Mat& right,
   const float invalid = static_cast<float>(o.min_disparity - 1);
   StereoResult result;
   result.disparity = cv::Mat(left.size(), CV_32F, cv::Scalar(invalid));
+  // Columns the search range cannot reach and the block's margins never get a disparity.
+  result.valid_window =
+      cv::getValidDisparityROI(full, full, o.min_disparity, o.num_disparities, o.block_size) & roi;
   const float shift = static_cast<float>(geometry.cx_left - geometry.cx_right);
   const int invalid16 = (o.min_disparity - 1) * 16;
   for (int v = roi.y; v < roi.y + roi.height; ++v) {
@@ -185,7 +203,7 @@ StereoResult StereoProcessor::Process(const cv::Mat& left, const cv::Mat& right,
   auto add = [&](size_t i) {
     cloud.xyz.push_back(points[i]);
     cloud.pixel.push_back(pixel_of_point[i]);
-    if (o.intensity) cloud.intensity.push_back(left.data[pixel_of_point[i]]);
+    if (o.intensity) cloud.intensity.push_back(Grey(left, pixel_of_point[i]));
   };
   if (o.decimation == Decimation::kNone && o.organized) {
     const float nan = std::numeric_limits<float>::quiet_NaN();
@@ -195,7 +213,7 @@ StereoResult StereoProcessor::Process(const cv::Mat& left, const cv::Mat& right,
     for (size_t i = 0; i < points.size(); ++i) {
       cloud.xyz[pixel_of_point[i]] = points[i];
       cloud.pixel[pixel_of_point[i]] = pixel_of_point[i];
-      if (o.intensity) cloud.intensity[pixel_of_point[i]] = left.data[pixel_of_point[i]];
+      if (o.intensity) cloud.intensity[pixel_of_point[i]] = Grey(left, pixel_of_point[i]);
     }
     cloud.width = left.cols;
     cloud.height = left.rows;
@@ -216,7 +234,7 @@ StereoResult StereoProcessor::Process(const cv::Mat& left, const cv::Mat& right,
         auto [it, inserted] = cells.try_emplace((x << 42) | (y << 21) | z);
         if (inserted) it->second.order = i;
         it->second.sum += points[i].cast<double>();
-        it->second.intensity += left.data[pixel_of_point[i]];
+        it->second.intensity += Grey(left, pixel_of_point[i]);
         ++it->second.n;
       }
       std::vector<const Cell*> ordered;  // first-seen order: deterministic output

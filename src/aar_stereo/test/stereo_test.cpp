@@ -6,6 +6,7 @@
 #include <cmath>
 #include <random>
 
+#include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
 
 namespace aar_stereo {
@@ -206,6 +207,37 @@ TEST(Stereo, RegionOfInterestMatchesTheFullImageInside) {
     }
   // Speckle filtering sees regions cut at the roi border; elsewhere the values are identical.
   EXPECT_LT(differ, inside / 100) << differ << " of " << inside;
+}
+
+TEST(Stereo, PaddedRowsValidWindowAndEmptyRoi) {
+  const StereoGeometry g = Geometry();
+  const auto [left, right] = PlanesPair(g, 13);
+  // Views into wider images: step > width, as a sensor_msgs/Image may have.
+  cv::Mat wide_left(g.height, g.width + 16, CV_8UC1, cv::Scalar(0)), wide_right = wide_left.clone();
+  left.copyTo(wide_left(cv::Rect(0, 0, g.width, g.height)));
+  right.copyTo(wide_right(cv::Rect(0, 0, g.width, g.height)));
+  const cv::Mat padded_left = wide_left(cv::Rect(0, 0, g.width, g.height));
+  const cv::Mat padded_right = wide_right(cv::Rect(0, 0, g.width, g.height));
+  ASSERT_GT(padded_left.step[0], static_cast<size_t>(g.width));
+  StereoOptions o;
+  o.decimation = Decimation::kNone;
+  o.intensity = true;
+  const StereoResult r = StereoProcessor(o).Process(padded_left, padded_right, g);
+  ASSERT_GT(r.cloud.xyz.size(), 1000u);
+  for (size_t i = 0; i < r.cloud.xyz.size(); i += 101) {
+    const int px = r.cloud.pixel[i];
+    EXPECT_EQ(r.cloud.intensity[i], left.at<uint8_t>(px / g.width, px % g.width));
+  }
+  // The matcher's valid window: no disparity left of it (search range + half block).
+  EXPECT_EQ(r.valid_window, cv::getValidDisparityROI(cv::Rect(0, 0, g.width, g.height),
+                                                     cv::Rect(0, 0, g.width, g.height), 0, 48, 9));
+  EXPECT_GE(r.valid_window.x, 47);
+  for (int v = 0; v < g.height; ++v)
+    for (int u = 0; u < r.valid_window.x; ++u) EXPECT_LT(r.disparity.at<float>(v, u), 0.0f);
+  // An empty region of interest (nothing predicted in view) matches nothing.
+  const StereoResult none = StereoProcessor(o).Process(left, right, g, cv::Rect());
+  EXPECT_EQ(none.valid_pixels, 0);
+  EXPECT_EQ(none.valid_window.area(), 0);
 }
 
 TEST(Stereo, ProjectedRoiBoundsTheProjections) {

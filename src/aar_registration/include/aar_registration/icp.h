@@ -24,7 +24,7 @@ struct RegistrationResult {
   Eigen::Isometry3d T_target_source = Eigen::Isometry3d::Identity();
   bool converged = false;  // stopped by the RMS criteria with enough correspondences
   int iterations = 0;
-  double rms = 0.0;      // [m] over the correspondences of the last iteration
+  double rms = 0.0;      // [m] over the correspondences of T_target_source
   double fitness = 0.0;  // share of source points with a correspondence
   int correspondences = 0;
 };

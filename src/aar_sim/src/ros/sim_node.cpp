@@ -97,6 +97,15 @@ SimNode::SimNode(ros::NodeHandle nh, const SimNodeOptions& options)
       path_(FlightPath::Load(options.flight_path)),
       world_(std::make_unique<World>(options.world)),
       it_(nh) {
+  if (options_.start_time < path_.start_time() || options_.start_time > path_.end_time()) {
+    throw std::invalid_argument(
+        "start_time " + std::to_string(options_.start_time) + " s is outside the flight path (" +
+        std::to_string(path_.start_time()) + " to " + std::to_string(path_.end_time()) + " s)");
+  }
+  if (!(options_.stamp_offset + path_.start_time() > 0.0)) {
+    throw std::invalid_argument(
+        "stamp_offset + path start must be positive: stamps of 0 or less are not valid");
+  }
   left_pub_ = it_.advertiseCamera("stereo/left/image_rect", 2);
   right_pub_ = it_.advertiseCamera("stereo/right/image_rect", 2);
   if (options_.publish_labels) {
@@ -139,9 +148,23 @@ SimNode::SimNode(ros::NodeHandle nh, const SimNodeOptions& options)
 }
 
 SimNode::~SimNode() {
-  stop_ = true;
+  estimate_sub_.shutdown();  // no callback may touch the members below any more
+  {
+    std::lock_guard<std::mutex> lock(mutex_);  // under the lock: the wake-up cannot be lost
+    stop_ = true;
+  }
   estimate_arrived_.notify_all();
   if (thread_.joinable()) thread_.join();
+}
+
+void SimNode::Run() {
+  try {
+    Loop();
+  } catch (const std::exception& e) {  // never let an exception end the process from this thread
+    ROS_FATAL_STREAM("sim: frame loop stopped: " << e.what());
+  }
+  finished_ = true;
+  if (options_.shutdown_at_end) ros::requestShutdown();
 }
 
 void SimNode::Start() { thread_ = std::thread(&SimNode::Run, this); }
@@ -154,18 +177,21 @@ void SimNode::OnEstimate(const aar_msgs::PoseEstimate::ConstPtr& msg) {
   estimate_arrived_.notify_all();
 }
 
-void SimNode::Run() {
+void SimNode::Loop() {
   if (options_.wait_for_subscribers) {
-    ROS_INFO("sim: waiting for a subscriber to stereo/left/image_rect");
-    while (!stop_ && ros::ok() && left_pub_.getNumSubscribers() == 0)
+    ROS_INFO("sim: waiting for subscribers to both images");
+    while (!stop_ && ros::ok() &&
+           (left_pub_.getNumSubscribers() == 0 || right_pub_.getNumSubscribers() == 0)) {
       ros::WallDuration(0.05).sleep();
+    }
   }
   const int path_frames = static_cast<int>(std::floor(
                               (path_.end_time() - options_.start_time) * options_.rate + 1e-9)) +
                           1;
   const int frames =
       options_.max_frames > 0 ? std::min(options_.max_frames, path_frames) : path_frames;
-  ros::WallRate rate(options_.rate);
+  const auto period = std::chrono::duration<double>(1.0 / options_.rate);
+  auto next = std::chrono::steady_clock::now();
   int misses = 0;
   for (int k = 0; k < frames && !stop_ && ros::ok(); ++k) {
     const double t = options_.start_time + k / options_.rate;
@@ -191,8 +217,10 @@ void SimNode::Run() {
                         << k << " (stamp " << stamp << ") within " << options_.lockstep_timeout
                         << " s; going on");
       }
-    } else {
-      rate.sleep();
+    } else {  // a wall-clock rate, interruptible by the destructor
+      next += std::chrono::duration_cast<std::chrono::steady_clock::duration>(period);
+      std::unique_lock<std::mutex> lock(mutex_);
+      estimate_arrived_.wait_until(lock, next, [&] { return bool(stop_); });
     }
     ROS_DEBUG_STREAM("sim: frame " << k + 1 << "/" << frames << ", range " << row.position_m.norm()
                                    << " m");
@@ -201,8 +229,6 @@ void SimNode::Run() {
                   << frames << " frames"
                   << (options_.lockstep ? ", " + std::to_string(misses) + " without an estimate"
                                         : ""));
-  finished_ = true;
-  if (options_.shutdown_at_end) ros::requestShutdown();
 }
 
 void SimNode::PublishFrame(int index, const FlightPathRow& row, const BoomPose& boom,

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -70,7 +71,8 @@ struct StereoTimings {
 };
 
 struct StereoResult {
-  cv::Mat disparity;  // CV_32F [px]; invalid pixels hold min_disparity - 1
+  cv::Mat disparity;      // CV_32F [px]; invalid pixels hold min_disparity - 1
+  cv::Rect valid_window;  // where the matcher can produce disparities (roi included)
   CloudPoints cloud;
   int valid_pixels = 0;  // disparity valid and within max_range
   StereoTimings timings;
@@ -78,12 +80,13 @@ struct StereoResult {
 
 // The smallest rectangle holding the projections of `points` (left optical frame [m]) grown by
 // `margin` [px] and clipped to the image: the region of interest for Process. The whole image if
-// a point is not in front of the camera; empty if all project outside.
+// a point is not in front of the camera; empty if all project outside (Process then matches
+// nothing).
 cv::Rect ProjectedRoi(const std::vector<Eigen::Vector3d>& points, const StereoGeometry& geometry,
                       int margin);
 
-// Disparity and point cloud from a rectified mono8 pair. `roi` restricts matching to a region
-// of the left image (the rest is invalid); an empty roi means the whole image.
+// Disparity and point cloud from a rectified mono8 pair. `roi`, when given, restricts matching to
+// a region of the left image (the rest is invalid; an empty region matches nothing).
 class StereoProcessor {
  public:
   explicit StereoProcessor(const StereoOptions& options);  // throws std::invalid_argument
@@ -92,7 +95,7 @@ class StereoProcessor {
   // Throws std::invalid_argument for images that are empty, not CV_8UC1, of different sizes or
   // of a size other than the geometry's.
   StereoResult Process(const cv::Mat& left, const cv::Mat& right, const StereoGeometry& geometry,
-                       const cv::Rect& roi = cv::Rect()) const;
+                       const std::optional<cv::Rect>& roi = std::nullopt) const;
 
  private:
   StereoOptions options_;

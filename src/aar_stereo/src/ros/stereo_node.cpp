@@ -15,7 +15,8 @@ StereoNodeOptions LoadStereoNodeOptions(const ros::NodeHandle& nh) {
   nh.param("queue_size", o.queue_size, o.queue_size);
   if (o.queue_size < 1) throw std::invalid_argument("~queue_size must be at least 1");
   // Everything else in ~ must be a reconfigurable setting: a typo would otherwise be ignored.
-  std::set<std::string> known = {"approximate_sync", "queue_size"};
+  std::set<std::string> known = {"approximate_sync", "queue_size",
+                                 "diagnostic_period"};  // the last: diagnostic_updater's
   for (const auto& p : StereoConfig::__getParamDescriptions__()) known.insert(p->name);
   std::vector<std::string> names;
   nh.getParamNames(names);
@@ -109,6 +110,15 @@ StereoNode::StereoNode(ros::NodeHandle nh, ros::NodeHandle private_nh,
   input_timer_ = nh_.createWallTimer(ros::WallDuration(2.0), &StereoNode::CheckInputs, this);
 }
 
+StereoNode::~StereoNode() {
+  // Inputs and timer first: no callback may run into members being destroyed.
+  input_timer_.stop();
+  left_sub_.unsubscribe();
+  left_info_sub_.unsubscribe();
+  right_sub_.unsubscribe();
+  right_info_sub_.unsubscribe();
+}
+
 void StereoNode::Connect() {
   std::lock_guard<std::mutex> lock(connect_mutex_);
   const bool wanted = disparity_pub_.getNumSubscribers() > 0 || points_pub_.getNumSubscribers() > 0;
@@ -118,7 +128,10 @@ void StereoNode::Connect() {
     left_info_sub_.subscribe(nh_, "left/camera_info", q);
     right_sub_.subscribe(nh_, "right/image_rect", q);
     right_info_sub_.subscribe(nh_, "right/camera_info", q);
-    last_frame_ = ros::WallTime::now();
+    {
+      std::lock_guard<std::mutex> input(input_mutex_);
+      last_frame_ = ros::WallTime::now();
+    }
     subscribed_ = true;
   } else if (!wanted && subscribed_) {
     left_sub_.unsubscribe();
@@ -153,9 +166,8 @@ void StereoNode::OnFrame(const Image::ConstPtr& left, const Info::ConstPtr& left
     const StereoResult result = processor_->Process(l, r, geometry);
     std_msgs::Header header = left->header;
     if (disparity_pub_.getNumSubscribers() > 0) {
-      disparity_pub_.publish(ToDisparityMsg(result, processor_->options(), geometry,
-                                            cv::Rect(0, 0, geometry.width, geometry.height),
-                                            header));
+      disparity_pub_.publish(
+          ToDisparityMsg(result, processor_->options(), geometry, result.valid_window, header));
     }
     if (points_pub_.getNumSubscribers() > 0)
       points_pub_.publish(ToPointCloud2Msg(result.cloud, header));
@@ -191,7 +203,6 @@ void StereoNode::OnFrame(const Image::ConstPtr& left, const Info::ConstPtr& left
     if (report)
       ROS_ERROR_STREAM("stereo: frame " << left->header.stamp << " skipped: " << e.what());
   }
-  diagnostics_.update();
 }
 
 void StereoNode::CheckInputs(const ros::WallTimerEvent&) {
@@ -213,13 +224,18 @@ void StereoNode::CheckInputs(const ros::WallTimerEvent&) {
 
 void StereoNode::Diagnose(diagnostic_updater::DiagnosticStatusWrapper& status) {
   std::lock_guard<std::mutex> lock(stats_mutex_);
-  if (skipped_ > 0 && frames_ == 0) {
-    status.summary(diagnostic_msgs::DiagnosticStatus::ERROR, "every frame skipped: " + last_error_);
-  } else if (!last_error_.empty()) {
+  // Judged on the frames since the previous report, so a warning clears once inputs are good.
+  const uint64_t frames = frames_ - reported_frames_, skipped = skipped_ - reported_skipped_;
+  reported_frames_ = frames_;
+  reported_skipped_ = skipped_;
+  if (skipped > 0 && frames == 0) {
+    status.summary(diagnostic_msgs::DiagnosticStatus::ERROR,
+                   "every recent frame skipped: " + last_error_);
+  } else if (skipped > 0) {
     status.summary(diagnostic_msgs::DiagnosticStatus::WARN,
                    "frames skipped, last because: " + last_error_);
   } else {
-    status.summary(diagnostic_msgs::DiagnosticStatus::OK, "processing");
+    status.summary(diagnostic_msgs::DiagnosticStatus::OK, frames > 0 ? "processing" : "no input");
   }
   status.add("frames", static_cast<uint64_t>(frames_));
   status.add("skipped frames", static_cast<uint64_t>(skipped_));

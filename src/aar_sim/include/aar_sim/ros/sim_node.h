@@ -26,10 +26,11 @@ struct SimNodeOptions {
   int max_frames = 0;                 // 0: to the end of the path
   bool lockstep = false;              // wait for /aar/pose_estimate of each frame before the next
   double lockstep_timeout = 5.0;      // [s wall] then go on and count a miss
-  bool wait_for_subscribers = false;  // hold frame 0 until the left image has a subscriber
+  bool wait_for_subscribers = false;  // hold frame 0 until both images have a subscriber
   bool publish_labels =
       false;  // also /stereo/{left,right}/label (mono8: 0 sky, 1 receiver, 2 boom)
-  bool shutdown_at_end = false;  // end the node after the last frame (experiments)
+  bool shutdown_at_end = false;  // end the process after the last frame (experiments; in a
+                                 // nodelet manager this ends the manager)
   double stamp_offset = 1.0;     // [s] stamp = offset + path time; stamp 0 means "latest" to tf
 };
 
@@ -49,7 +50,8 @@ class SimNode {
   bool finished() const { return finished_; }
 
  private:
-  void Run();
+  void Run();  // the thread: Loop, guarded
+  void Loop();
   void PublishFrame(int index, const FlightPathRow& row, const BoomPose& boom,
                     const StereoFrame& frame, const ros::Time& stamp);
   void OnEstimate(const aar_msgs::PoseEstimate::ConstPtr& msg);

@@ -39,6 +39,7 @@ StereoOptions ToStereoOptions(StereoConfig& config);
 class StereoNode {
  public:
   StereoNode(ros::NodeHandle nh, ros::NodeHandle private_nh, const StereoNodeOptions& options);
+  ~StereoNode();
 
  private:
   using Image = sensor_msgs::Image;
@@ -81,7 +82,8 @@ class StereoNode {
   StereoTimings last_timings_;
   size_t last_points_ = 0;
   std::string last_error_;
-  std::map<std::string, ros::WallTime> last_reported_;  // error text -> when last logged
+  uint64_t reported_frames_ = 0, reported_skipped_ = 0;  // at the previous diagnostics report
+  std::map<std::string, ros::WallTime> last_reported_;   // error text -> when last logged
 };
 
 }  // namespace aar_stereo
