@@ -1,0 +1,69 @@
+#pragma once
+
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+
+#include <ros/ros.h>
+#include <sensor_msgs/PointCloud2.h>
+#include <tf2_ros/buffer.h>
+#include <tf2_ros/transform_broadcaster.h>
+#include <tf2_ros/transform_listener.h>
+
+#include "aar_registration/icp.h"
+#include "aar_registration/reference_model.h"
+
+namespace aar_registration {
+
+enum class ReferenceKind { kShelled, kWingsNose, kDense, kTopic };
+enum class SeedMode { kCentroid, kPrevious };
+
+struct RegistrationNodeOptions {
+  ReferenceKind reference = ReferenceKind::kShelled;  // static model, or /aar/reference_cloud
+  std::string receiver_mesh;                          // default: aar_sim's models/receiver.obj
+  ReferenceModelOptions sampling;
+  Eigen::Isometry3d T_tanker_receiver_nominal = Eigen::Isometry3d::Identity();  // shelling pose
+  IcpOptions icp;
+  SeedMode seed = SeedMode::kCentroid;  // thesis: centroid of the sensed points, tanker orientation
+  double previous_max_age = 1.0;        // [s] older previous estimates are not used as seeds
+  std::string tanker_frame = "tanker";
+  std::string receiver_frame = "receiver";
+  std::string left_camera_frame = "stereo_left_optical";  // eyes for shelling, from tf
+  std::string right_camera_frame = "stereo_right_optical";
+  double tf_timeout = 0.5;  // [s] waiting for the sensed cloud's transform
+};
+
+// Reads ~parameters (one function, unknown keys rejected); throws std::invalid_argument.
+RegistrationNodeOptions LoadRegistrationNodeOptions(const ros::NodeHandle& private_nh);
+
+// Registers each sensed cloud (~points, any frame with tf to the tanker) against the receiver's
+// reference model and publishes the pose.
+class RegistrationNode {
+ public:
+  RegistrationNode(ros::NodeHandle nh, ros::NodeHandle private_nh,
+                   const RegistrationNodeOptions& options);
+  ~RegistrationNode();
+
+ private:
+  void OnCloud(const sensor_msgs::PointCloud2::ConstPtr& msg);
+  void OnReference(const sensor_msgs::PointCloud2::ConstPtr& msg);
+  void BuildStaticReference();
+  void ReportError(const std::string& what);
+
+  ros::NodeHandle nh_;
+  RegistrationNodeOptions options_;
+  tf2_ros::Buffer tf_buffer_;
+  tf2_ros::TransformListener tf_listener_;
+  tf2_ros::TransformBroadcaster tf_broadcaster_;
+  ros::Publisher pose_pub_, estimate_pub_;
+  ros::Subscriber cloud_sub_, reference_sub_;
+
+  std::mutex mutex_;  // the target and the previous estimate
+  Icp icp_;
+  std::vector<Eigen::Vector3d> reference_points_;                    // in the receiver frame
+  std::optional<std::pair<ros::Time, Eigen::Isometry3d>> previous_;  // T_tanker_receiver
+  std::map<std::string, ros::WallTime> last_reported_;
+};
+
+}  // namespace aar_registration
