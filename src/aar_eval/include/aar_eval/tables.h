@@ -1,0 +1,65 @@
+#pragma once
+
+#include <array>
+#include <map>
+#include <string>
+#include <vector>
+
+#include <aar_geometry/pose_error.h>
+
+namespace aar_eval {
+
+// One frame of one experiment: the truth's range and region, and the error if there was an
+// estimate (a frame without one is a miss).
+struct FrameRecord {
+  double t = 0.0;        // [s] path time
+  double range_m = 0.0;  // [m] truth
+  aar_geometry::Region region = aar_geometry::Region::kOutside;
+  bool estimated = false;
+  // Position error along the true body axes [m], then roll, pitch, yaw error [deg].
+  std::array<double, 6> error{};
+  bool converged = false;
+  int iterations = 0;
+  double rms = 0.0;              // [m] ICP
+  double registration_ms = 0.0;  // [ms]
+};
+
+// Per region and component: average error magnitude and RMS error (thesis Eq. 7), over the frames
+// that have an estimate.
+struct RegionStats {
+  int frames = 0;     // all frames in the region
+  int estimated = 0;  // frames with an estimate
+  std::array<double, 6> mean_abs{};
+  std::array<double, 6> rms{};
+};
+
+// The component names in table order, with units: "x (m)", ..., "yaw (deg)".
+const std::array<std::string, 6>& ComponentNames();
+
+// Region A, B, C and the whole approach ("all": every frame in A, B or C).
+std::map<std::string, RegionStats> ComputeRegionStats(const std::vector<FrameRecord>& frames);
+
+// The thesis's % difference of `value` against `baseline`: (baseline - value) / baseline * 100,
+// positive when `value` is smaller (better). NaN when the baseline is 0.
+double PercentDifference(double value, double baseline);
+
+// CSV of records (header t,range_m,region,estimated,x_m,y_m,z_m,roll_deg,pitch_deg,yaw_deg,
+// converged,iterations,rms_m,registration_ms). Read throws aar_geometry::LoadError naming file
+// and line.
+void WriteFrameCsv(const std::string& path, const std::vector<FrameRecord>& frames);
+std::vector<FrameRecord> ReadFrameCsv(const std::string& path);
+std::string FrameCsvHeader();
+std::string FrameCsvRow(const FrameRecord& frame);
+
+// Markdown table in the thesis's layout: for each region, one row per experiment of average
+// error magnitude (and RMS with `rms` set), plus a "% difference" row for each experiment against
+// `baseline` (an experiment name; empty: none).
+std::string MarkdownRegionTable(
+    const std::map<std::string, std::map<std::string, RegionStats>>& by_experiment,
+    const std::vector<std::string>& experiment_order, const std::string& baseline, bool rms);
+
+// The thesis's headline: the mean over the six components, whole approach, of the % difference
+// of the average error magnitude against the baseline.
+double AverageImprovement(const RegionStats& value, const RegionStats& baseline);
+
+}  // namespace aar_eval

@@ -1,0 +1,100 @@
+#include "aar_eval/tables.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+
+#include <aar_geometry/load_error.h>
+
+namespace aar_eval {
+namespace {
+
+std::string Write(const std::string& name, const std::string& text) {
+  const std::string path = std::filesystem::temp_directory_path().string() + "/aar_eval_" + name;
+  std::ofstream(path) << text;
+  return path;
+}
+
+// Hand-made: region A has two estimates (x = 1 and -3; yaw = 2 and 2) and one miss, region B one
+// estimate (x = 0.5), and a frame at 20 m is outside every region.
+const char kCsv[] =
+    "t,range_m,region,estimated,x_m,y_m,z_m,roll_deg,pitch_deg,yaw_deg,converged,iterations,rms_m,"
+    "registration_ms\n"
+    "0,150,A,1,1,0,0,0,0,2,1,12,0.01,5\n"
+    "1,120,A,1,-3,0,0,0,0,2,0,30,0.02,6\n"
+    "2,100,A,0,nan,nan,nan,nan,nan,nan,0,0,0,0\n"
+    "3,50,B,1,0.5,0,0,0,0,0,1,8,0.01,4\n"
+    "4,20,outside,1,9,9,9,9,9,9,1,8,0.01,4\n";
+
+TEST(Tables, RegionStatsByHand) {
+  const auto frames = ReadFrameCsv(Write("hand.csv", kCsv));
+  ASSERT_EQ(frames.size(), 5u);
+  const auto stats = ComputeRegionStats(frames);
+  ASSERT_EQ(stats.count("C"), 0u);
+  const RegionStats& a = stats.at("A");
+  EXPECT_EQ(a.frames, 3);
+  EXPECT_EQ(a.estimated, 2);
+  EXPECT_DOUBLE_EQ(a.mean_abs[0], 2.0);        // (|1| + |-3|) / 2
+  EXPECT_DOUBLE_EQ(a.rms[0], std::sqrt(5.0));  // sqrt((1 + 9) / 2)
+  EXPECT_DOUBLE_EQ(a.mean_abs[5], 2.0);
+  EXPECT_DOUBLE_EQ(a.rms[5], 2.0);
+  const RegionStats& all = stats.at("all");  // A and B, not the 20 m frame
+  EXPECT_EQ(all.frames, 4);
+  EXPECT_EQ(all.estimated, 3);
+  EXPECT_DOUBLE_EQ(all.mean_abs[0], 4.5 / 3.0);  // (1 + 3 + 0.5) / 3
+  EXPECT_DOUBLE_EQ(all.rms[0], std::sqrt(10.25 / 3.0));
+}
+
+TEST(Tables, PercentDifferenceAndHeadline) {
+  EXPECT_DOUBLE_EQ(PercentDifference(2.0, 8.0), 75.0);  // thesis: positive is better
+  EXPECT_DOUBLE_EQ(PercentDifference(8.198, 1.125), (1.125 - 8.198) / 1.125 * 100.0);
+  EXPECT_TRUE(std::isnan(PercentDifference(1.0, 0.0)));
+  RegionStats value, baseline;
+  value.mean_abs = {1, 1, 1, 1, 1, 1};
+  baseline.mean_abs = {2, 4, 1, 2, 4, 1};  // 50, 75, 0, 50, 75, 0
+  EXPECT_DOUBLE_EQ(AverageImprovement(value, baseline), 250.0 / 6.0);
+}
+
+TEST(Tables, MarkdownLayout) {
+  const auto stats = ComputeRegionStats(ReadFrameCsv(Write("hand2.csv", kCsv)));
+  std::map<std::string, std::map<std::string, RegionStats>> by = {{"naive", stats},
+                                                                  {"dynamic", stats}};
+  const std::string table = MarkdownRegionTable(by, {"naive", "dynamic"}, "naive", false);
+  EXPECT_NE(table.find("| Region A (175-70 m) | naive average error magnitude | 3 (2) | 2.000 |"),
+            std::string::npos)
+      << table;
+  EXPECT_NE(table.find("| Region A (175-70 m) | % difference, dynamic against naive | | 0.00 |"),
+            std::string::npos)
+      << table;
+  EXPECT_EQ(table.find("Region C"), std::string::npos);
+}
+
+TEST(Tables, CsvRoundTripAndErrors) {
+  const auto frames = ReadFrameCsv(Write("hand3.csv", kCsv));
+  const std::string path = std::filesystem::temp_directory_path().string() + "/aar_eval_round.csv";
+  WriteFrameCsv(path, frames);
+  const auto again = ReadFrameCsv(path);
+  ASSERT_EQ(again.size(), frames.size());
+  EXPECT_EQ(again[1].error[0], -3.0);
+  EXPECT_FALSE(again[2].estimated);
+  auto expect = [](const std::string& text, const std::string& fragment) {
+    const std::string p = Write("bad.csv", text);
+    try {
+      ReadFrameCsv(p);
+      ADD_FAILURE() << fragment;
+    } catch (const aar_geometry::LoadError& e) {
+      EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
+    }
+  };
+  const std::string header = FrameCsvHeader() + "\n";
+  expect("t,x\n", "line 1: not a frame CSV header");
+  expect(header + "0,150,A,1\n", "line 2: 4 cells, 14 expected");
+  expect(header + "0,150,A,1,abc,0,0,0,0,0,1,1,0,0\n", "line 2: 'abc' is not a number");
+  expect(header + "0,50,A,1,0,0,0,0,0,0,1,1,0,0\n", "line 2: region 'A' does not match range 50");
+}
+
+}  // namespace
+}  // namespace aar_eval
