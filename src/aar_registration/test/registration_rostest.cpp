@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include <aar_geometry/pose_error.h>
+#include <aar_msgs/PoseError.h>
 #include <aar_msgs/PoseEstimate.h>
 #include <aar_sim/ros/stamped_collector.h>
 #include <ros/ros.h>
@@ -28,6 +29,7 @@ Eigen::Isometry3d ToEigen(const geometry_msgs::Pose& p) {
 TEST(NearContact, NoBoomErrorsUnderTenCentimetresAndOneDegree) {
   ros::NodeHandle nh;
   aar_sim::StampedCollector<aar_msgs::PoseEstimate> estimates(nh, "/aar/pose_estimate");
+  aar_sim::StampedCollector<aar_msgs::PoseError> errors(nh, "/aar/pose_error");
   tf2_ros::Buffer tf(ros::Duration(120.0));
   tf2_ros::TransformListener listener(tf);
   const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(200.0);
@@ -35,7 +37,7 @@ TEST(NearContact, NoBoomErrorsUnderTenCentimetresAndOneDegree) {
   ASSERT_GE(estimates.size(), 18u) << "estimates for fewer than 18 of 20 frames";
 
   double position = 0.0, orientation = 0.0;
-  int n = 0, converged = 0;
+  int n = 0, converged = 0, checked_errors = 0;
   std::lock_guard<std::mutex> lock(estimates.mutex);
   for (const auto& [stamp, estimate] : estimates.by_stamp) {
     const auto truth = tf.lookupTransform("tanker", "receiver_truth", stamp, ros::Duration(2.0));
@@ -50,6 +52,16 @@ TEST(NearContact, NoBoomErrorsUnderTenCentimetresAndOneDegree) {
         stamp.toSec(), e.range_m, aar_geometry::RegionName(e.region).c_str(), e.position_m.norm(),
         angle, estimate->sensed_points, estimate->iterations,
         estimate->converged ? "" : ", not converged");
+    // eval_node's error for the same frame agrees with this one (it settles frames one behind).
+    std::lock_guard<std::mutex> error_lock(errors.mutex);
+    if (errors.by_stamp.count(stamp)) {
+      const aar_msgs::PoseError& m = *errors.by_stamp.at(stamp);
+      EXPECT_NEAR(m.x_m, e.position_m.x(), 1e-6);
+      EXPECT_NEAR(m.yaw_deg, aar_geometry::RadToDeg(e.orientation_rad.yaw), 1e-6);
+      EXPECT_NEAR(m.range_m, e.range_m, 1e-6);
+      EXPECT_EQ(m.region, aar_msgs::PoseError::REGION_C);
+      ++checked_errors;
+    }
     position += e.position_m.norm();
     orientation += angle;
     converged += estimate->converged;
@@ -60,6 +72,7 @@ TEST(NearContact, NoBoomErrorsUnderTenCentimetresAndOneDegree) {
   std::printf(
       "[ near contact ] %d frames: mean position error %.4f m, mean orientation error %.4f deg\n",
       n, position, orientation);
+  EXPECT_GE(checked_errors, 15) << "eval_node published too few /aar/pose_error messages";
   EXPECT_LT(position, 0.10);
   EXPECT_LT(orientation, 1.0);
 }

@@ -56,6 +56,18 @@ std::vector<Eigen::Vector3d> FromCloud(const sensor_msgs::PointCloud2& msg) {
   return points;
 }
 
+// Waits for a transform in wall-clock time. tf2's own timed wait counts simulated time, which
+// stands still in lockstep while the simulator waits for this node.
+bool WaitForTransform(const tf2_ros::Buffer& buffer, const std::string& target,
+                      const std::string& source, const ros::Time& time, double timeout_s) {
+  const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(timeout_s);
+  while (!buffer.canTransform(target, source, time)) {
+    if (ros::WallTime::now() > deadline || !ros::ok()) return false;
+    ros::WallDuration(0.005).sleep();
+  }
+  return true;
+}
+
 template <typename T>
 T Param(const ros::NodeHandle& nh, const std::string& name, const T& fallback,
         std::set<std::string>& known) {
@@ -163,11 +175,9 @@ void RegistrationNode::BuildStaticReference() {
     // Shelled as the cameras see the receiver at the nominal pose: their positions from tf.
     std::vector<Eigen::Vector3d> eyes;
     for (const auto& frame : {options_.left_camera_frame, options_.right_camera_frame}) {
-      std::string error;
-      if (!tf_buffer_.canTransform(options_.tanker_frame, frame, ros::Time(0), ros::Duration(10.0),
-                                   &error)) {
+      if (!WaitForTransform(tf_buffer_, options_.tanker_frame, frame, ros::Time(0), 10.0)) {
         throw std::runtime_error("no tf " + options_.tanker_frame + " -> " + frame +
-                                 " within 10 s, needed to shell the reference model: " + error);
+                                 " within 10 s, needed to shell the reference model");
       }
       const Eigen::Isometry3d T_tanker_camera =
           ToEigen(tf_buffer_.lookupTransform(options_.tanker_frame, frame, ros::Time(0)).transform);
@@ -216,9 +226,8 @@ void RegistrationNode::OnCloud(const sensor_msgs::PointCloud2::ConstPtr& msg) {
   std::lock_guard<std::mutex> lock(mutex_);
   try {
     if (!icp_.has_target()) throw std::runtime_error("no reference model yet");
-    std::string error;
-    if (!tf_buffer_.canTransform(options_.tanker_frame, msg->header.frame_id, msg->header.stamp,
-                                 ros::Duration(options_.tf_timeout), &error)) {
+    if (!WaitForTransform(tf_buffer_, options_.tanker_frame, msg->header.frame_id,
+                          msg->header.stamp, options_.tf_timeout)) {
       throw std::runtime_error("no tf " + options_.tanker_frame + " -> '" + msg->header.frame_id +
                                "' at the cloud's stamp within " +
                                std::to_string(options_.tf_timeout) + " s");

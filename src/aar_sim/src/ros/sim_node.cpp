@@ -72,6 +72,8 @@ SimNodeOptions LoadSimNodeOptions(const ros::NodeHandle& nh) {
   o.lockstep = Param(nh, "lockstep", o.lockstep, known);
   o.lockstep_timeout = Param(nh, "lockstep_timeout", o.lockstep_timeout, known);
   o.wait_for_subscribers = Param(nh, "wait_for_subscribers", o.lockstep, known);
+  o.start_delay = Param(nh, "start_delay", o.start_delay, known);
+  Require(o.start_delay >= 0.0, "start_delay must not be negative");
   o.publish_labels = Param(nh, "publish_labels", o.publish_labels, known);
   o.shutdown_at_end = Param(nh, "shutdown_at_end", o.shutdown_at_end, known);
   o.stamp_offset = Param(nh, "stamp_offset", o.stamp_offset, known);
@@ -185,6 +187,7 @@ void SimNode::Loop() {
       ros::WallDuration(0.05).sleep();
     }
   }
+  if (options_.start_delay > 0.0) ros::WallDuration(options_.start_delay).sleep();
   const int path_frames = static_cast<int>(std::floor(
                               (path_.end_time() - options_.start_time) * options_.rate + 1e-9)) +
                           1;

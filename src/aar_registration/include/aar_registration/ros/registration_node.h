@@ -31,7 +31,7 @@ struct RegistrationNodeOptions {
   std::string receiver_frame = "receiver";
   std::string left_camera_frame = "stereo_left_optical";  // eyes for shelling, from tf
   std::string right_camera_frame = "stereo_right_optical";
-  double tf_timeout = 0.5;  // [s] waiting for the sensed cloud's transform
+  double tf_timeout = 0.5;  // [s wall] waiting for the sensed cloud's transform
 };
 
 // Reads ~parameters (one function, unknown keys rejected); throws std::invalid_argument.

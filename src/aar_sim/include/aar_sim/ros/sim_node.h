@@ -27,6 +27,7 @@ struct SimNodeOptions {
   bool lockstep = false;              // wait for /aar/pose_estimate of each frame before the next
   double lockstep_timeout = 5.0;      // [s wall] then go on and count a miss
   bool wait_for_subscribers = false;  // hold frame 0 until both images have a subscriber
+  double start_delay = 0.0;           // [s wall] then wait this long (other listeners connecting)
   bool publish_labels =
       false;  // also /stereo/{left,right}/label (mono8: 0 sky, 1 receiver, 2 boom)
   bool shutdown_at_end = false;  // end the process after the last frame (experiments; in a

@@ -1,0 +1,78 @@
+// make_report: DIR/report.md from DIR/<experiment>/frames.csv of each experiment: per-region
+// tables in the thesis's layout (average error magnitude and RMS), % difference against the
+// baseline, the headline average improvement, misses, and the plots and run details if present.
+//   make_report DIR EXPERIMENT[,EXPERIMENT...] [BASELINE]
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <sstream>
+
+#include "aar_eval/tables.h"
+
+int main(int argc, char** argv) {
+  if (argc < 3) {
+    std::cerr << "usage: make_report DIR EXPERIMENT[,EXPERIMENT...] [BASELINE]\n";
+    return 2;
+  }
+  const std::string dir = argv[1];
+  std::vector<std::string> experiments;
+  std::stringstream list(argv[2]);
+  for (std::string e; std::getline(list, e, ',');) experiments.push_back(e);
+  const std::string baseline = argc > 3 ? argv[3] : "";
+  try {
+    std::map<std::string, std::map<std::string, aar_eval::RegionStats>> stats;
+    std::vector<std::string> done;
+    for (const auto& e : experiments) {
+      const std::string csv = dir + "/" + e + "/frames.csv";
+      if (!std::filesystem::exists(csv)) {
+        std::cerr << "make_report: " << csv << " is missing: experiment '" << e << "' left out\n";
+        continue;
+      }
+      stats[e] = aar_eval::ComputeRegionStats(aar_eval::ReadFrameCsv(csv));
+      done.push_back(e);
+    }
+    if (done.empty()) throw std::runtime_error("no experiment has results in " + dir);
+    const bool has_baseline = !baseline.empty() && stats.count(baseline);
+
+    std::ofstream out(dir + "/report.md");
+    out << "# AAR pose estimation report\n\n";
+    std::ifstream run(dir + "/run.txt");
+    if (run) out << "## Run\n\n```\n" << run.rdbuf() << "```\n\n";
+    out << "Errors are estimate minus truth in the true receiver body frame (x, y, z in metres) "
+           "and "
+           "roll, pitch, yaw of R_truth^T R_estimate (degrees). Averages and RMS are over the "
+           "frames "
+           "with an estimate; \"frames (estimated)\" counts both. % difference = (baseline - "
+           "value) / "
+           "baseline x 100: positive is better.\n\n";
+    if (has_baseline) {
+      out << "## Headline\n\n";
+      for (const auto& e : done) {
+        if (e == baseline || !stats[e].count("all") || !stats[baseline].count("all")) continue;
+        out << "- " << e << ": average improvement over " << baseline << ": " << std::fixed
+            << std::setprecision(1)
+            << aar_eval::AverageImprovement(stats[e].at("all"), stats[baseline].at("all")) << "%"
+            << (e == "dynamic" ? " (thesis: 74.1%)" : "") << "\n";
+      }
+      out << "\n";
+    }
+    out << "## Average error magnitude\n\n"
+        << aar_eval::MarkdownRegionTable(stats, done, has_baseline ? baseline : "", false);
+    out << "\n## RMS error\n\n"
+        << aar_eval::MarkdownRegionTable(stats, done, has_baseline ? baseline : "", true);
+    out << "\n## Error against range\n\n";
+    for (const auto& e : done) {
+      for (const char* kind : {"position", "orientation"}) {
+        const std::string png = "plots/" + e + "_" + kind + ".png";
+        if (std::filesystem::exists(dir + "/" + png))
+          out << "![" << e << " " << kind << "](" << png << ")\n\n";
+      }
+    }
+    std::cout << "make_report: wrote " << dir << "/report.md (" << done.size() << " experiments)\n";
+  } catch (const std::exception& e) {
+    std::cerr << "make_report: " << e.what() << "\n";
+    return 1;
+  }
+  return 0;
+}
