@@ -5,7 +5,14 @@
 #include <aar_msgs/PoseEstimate.h>
 #include <aar_sim/ros/stamped_collector.h>
 #include <ros/ros.h>
+#include <rosgraph_msgs/Log.h>
+#include <sensor_msgs/point_cloud2_iterator.h>
+#include <tf2_ros/static_transform_broadcaster.h>
 #include <tf2_ros/transform_listener.h>
+
+#include <cstdlib>
+#include <fstream>
+#include <limits>
 
 namespace {
 
@@ -75,6 +82,104 @@ TEST(NearContact, NoBoomErrorsUnderTenCentimetresAndOneDegree) {
   EXPECT_GE(checked_errors, 15) << "eval_node published too few /aar/pose_error messages";
   EXPECT_LT(position, 0.10);
   EXPECT_LT(orientation, 1.0);
+}
+
+sensor_msgs::PointCloud2 Cloud(const std::string& frame, const std::vector<Eigen::Vector3f>& points,
+                               bool with_z = true) {
+  sensor_msgs::PointCloud2 msg;
+  msg.header.frame_id = frame;
+  msg.header.stamp = ros::Time::now();
+  sensor_msgs::PointCloud2Modifier modifier(msg);
+  if (with_z) {
+    modifier.setPointCloud2FieldsByString(1, "xyz");
+  } else {
+    modifier.setPointCloud2Fields(2, "x", 1, sensor_msgs::PointField::FLOAT32, "y", 1,
+                                  sensor_msgs::PointField::FLOAT32);
+  }
+  modifier.resize(points.size());
+  sensor_msgs::PointCloud2Iterator<float> x(msg, "x"), y(msg, "y");
+  for (size_t i = 0; i < points.size(); ++i, ++x, ++y) *x = points[i].x(), *y = points[i].y();
+  if (with_z) {
+    sensor_msgs::PointCloud2Iterator<float> z(msg, "z");
+    for (size_t i = 0; i < points.size(); ++i, ++z) *z = points[i].z();
+  }
+  return msg;
+}
+
+TEST(BadInput, ErrorsNamedNoEstimateNodeAlive) {
+  ros::NodeHandle nh;
+  ros::Publisher clouds = nh.advertise<sensor_msgs::PointCloud2>("/points", 5);
+  std::mutex mutex;
+  std::vector<std::string> errors;
+  ros::Subscriber rosout =
+      nh.subscribe<rosgraph_msgs::Log>("/rosout", 100, [&](const rosgraph_msgs::Log::ConstPtr& m) {
+        if (m->level >= rosgraph_msgs::Log::ERROR && m->name == "/registration") {
+          std::lock_guard<std::mutex> lock(mutex);
+          errors.push_back(m->msg);
+        }
+      });
+  aar_sim::StampedCollector<aar_msgs::PoseEstimate> estimates(nh, "/aar/pose_estimate");
+  tf2_ros::StaticTransformBroadcaster static_tf;
+  geometry_msgs::TransformStamped mount;
+  mount.header.frame_id = "tanker";
+  mount.child_frame_id = "sensor";
+  mount.transform.translation.x = -35.0;
+  mount.transform.rotation.w = 1.0;
+  static_tf.sendTransform(mount);
+  const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(30.0);
+  while (ros::WallTime::now() < deadline &&
+         (clouds.getNumSubscribers() == 0 || rosout.getNumPublishers() == 0)) {
+    ros::WallDuration(0.05).sleep();
+  }
+  ASSERT_GT(clouds.getNumSubscribers(), 0u);
+  auto logged = [&](const std::string& text) {
+    const ros::WallTime until = ros::WallTime::now() + ros::WallDuration(5.0);
+    while (ros::WallTime::now() < until) {
+      {
+        std::lock_guard<std::mutex> lock(mutex);
+        for (const auto& e : errors)
+          if (e.find(text) != std::string::npos) return true;
+      }
+      ros::WallDuration(0.05).sleep();
+    }
+    return false;
+  };
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  clouds.publish(Cloud("sensor", {}));
+  EXPECT_TRUE(logged("cloud has 0 finite points"));
+  clouds.publish(Cloud("sensor", std::vector<Eigen::Vector3f>(50, Eigen::Vector3f(nan, nan, nan))));
+  ros::WallDuration(0.3).sleep();
+  clouds.publish(Cloud("nowhere", {{1, 2, 3}}));
+  EXPECT_TRUE(logged("no tf tanker -> 'nowhere'"));
+  clouds.publish(Cloud("sensor", {{1, 2, 3}}, false));
+  EXPECT_TRUE(logged("no float32 field 'z'"));
+  EXPECT_EQ(estimates.size(), 0u) << "a bad cloud produced an estimate";
+
+  // Alive: a cloud of the receiver's shape 35 m aft gives an estimate near there.
+  std::vector<Eigen::Vector3f> shape;
+  for (int i = -40; i <= 40; ++i) {
+    shape.emplace_back(0.1f * i, 0.0f, 0.0f);   // fuselage line
+    shape.emplace_back(0.5f, 0.2f * i, -0.4f);  // wing line
+  }
+  clouds.publish(Cloud("sensor", shape));
+  const ros::WallTime until = ros::WallTime::now() + ros::WallDuration(10.0);
+  while (ros::WallTime::now() < until && estimates.size() == 0) ros::WallDuration(0.05).sleep();
+  ASSERT_EQ(estimates.size(), 1u);
+  std::lock_guard<std::mutex> lock(estimates.mutex);
+  EXPECT_NEAR(estimates.by_stamp.begin()->second->pose.position.x, -35.0, 5.0);
+}
+
+TEST(BadInput, MissingReferenceMeshExitsNamingIt) {
+  const std::string log = "/tmp/aar_registration_bad_mesh.log";
+  const int status = std::system(
+      ("timeout 30 " + std::string(AAR_REGISTRATION_NODE) +
+       " __name:=bad_mesh _reference:=dense _receiver_mesh:=/nonexistent/receiver.obj > " + log +
+       " 2>&1")
+          .c_str());
+  std::ifstream in(log);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 1) << text;
+  EXPECT_NE(text.find("/nonexistent/receiver.obj"), std::string::npos) << text;
 }
 
 }  // namespace
