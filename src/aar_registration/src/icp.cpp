@@ -3,6 +3,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include <pcl/point_types.h>
+#include <pcl/registration/gicp.h>
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 #include <Eigen/SVD>
@@ -24,6 +26,22 @@ struct PointSet {
 using KdTree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, PointSet>,
                                                    PointSet, 3>;
 
+// PCL keeps its iteration count protected.
+struct Gicp : pcl::GeneralizedIterativeClosestPoint<pcl::PointXYZ, pcl::PointXYZ> {
+  int iterations() const { return nr_iterations_; }
+};
+
+pcl::PointCloud<pcl::PointXYZ>::Ptr ToPcl(const std::vector<Eigen::Vector3d>& points) {
+  pcl::PointCloud<pcl::PointXYZ>::Ptr cloud(new pcl::PointCloud<pcl::PointXYZ>);
+  cloud->reserve(points.size());
+  for (const auto& p : points) {
+    if (p.allFinite())
+      cloud->push_back(pcl::PointXYZ(static_cast<float>(p.x()), static_cast<float>(p.y()),
+                                     static_cast<float>(p.z())));
+  }
+  return cloud;
+}
+
 Eigen::Vector3d Centroid(const std::vector<Eigen::Vector3d>& points) {
   if (points.empty()) throw std::invalid_argument("centroid of an empty cloud");
   Eigen::Vector3d c = Eigen::Vector3d::Zero();
@@ -37,6 +55,7 @@ struct Icp::Target {
   PointSet set;
   std::vector<Eigen::Vector3d> normals;
   std::unique_ptr<KdTree> tree;
+  std::unique_ptr<Gicp> gicp;  // kGeneralizedPcl: target covariances computed once, then reused
 };
 
 Icp::Icp(const IcpOptions& options) : options_(options) {
@@ -68,6 +87,15 @@ void Icp::SetTarget(std::vector<Eigen::Vector3d> points, std::vector<Eigen::Vect
   target->tree =
       std::make_unique<KdTree>(3, target->set, nanoflann::KDTreeSingleIndexAdaptorParams(10));
   target->tree->buildIndex();
+  if (options_.metric == IcpMetric::kGeneralizedPcl) {
+    target->gicp = std::make_unique<Gicp>();
+    target->gicp->setInputTarget(ToPcl(target->set.pts));
+    target->gicp->setMaximumIterations(options_.max_iterations);
+    target->gicp->setMaxCorrespondenceDistance(options_.max_correspondence_distance);
+    target->gicp->setTransformationEpsilon(1e-10);
+    target->gicp->setEuclideanFitnessEpsilon(options_.min_rms_improvement *
+                                             options_.min_rms_improvement);
+  }
   target_ = std::move(target);
 }
 
@@ -101,6 +129,26 @@ RegistrationResult Icp::Align(const std::vector<Eigen::Vector3d>& source,
     result.fitness = source.empty() ? 0.0 : static_cast<double>(pairs.size()) / source.size();
     result.rms = pairs.empty() ? 0.0 : std::sqrt(sum_d2 / pairs.size());
   };
+
+  if (options_.metric == IcpMetric::kGeneralizedPcl) {
+    Gicp& gicp = *target_->gicp;
+    const auto cloud = ToPcl(source);
+    if (cloud->size() < static_cast<size_t>(options_.min_correspondences)) return result;
+    gicp.setInputSource(cloud);
+    pcl::PointCloud<pcl::PointXYZ> aligned;
+    gicp.align(aligned, guess.matrix().cast<float>());
+    const Eigen::Matrix4d M = gicp.getFinalTransformation().cast<double>();
+    result.T_target_source.linear() =  // float: re-orthonormalised
+        Eigen::Quaterniond(Eigen::Matrix3d(M.topLeftCorner<3, 3>()))
+            .normalized()
+            .toRotationMatrix();
+    result.T_target_source.translation() = M.topRightCorner<3, 1>();
+    result.iterations = gicp.iterations();
+    match();  // RMS and fitness by the same definition as the other metrics
+    result.converged = gicp.hasConverged() && result.iterations < options_.max_iterations &&
+                       result.correspondences >= options_.min_correspondences;
+    return result;
+  }
 
   for (int iteration = 1; iteration <= options_.max_iterations; ++iteration) {
     result.iterations = iteration;

@@ -57,8 +57,10 @@ void CheckRecovery(IcpMetric metric) {
     EXPECT_GT(r.fitness, 0.99);
     EXPECT_LT(r.rms, 0.003);
     std::printf("[ icp ] %s trial %d: %d iterations, rms %.4f m, error %.3g m / %.3g deg\n",
-                metric == IcpMetric::kPointToPoint ? "point-to-point" : "point-to-plane", trial,
-                r.iterations, r.rms,
+                metric == IcpMetric::kPointToPoint   ? "point-to-point"
+                : metric == IcpMetric::kPointToPlane ? "point-to-plane"
+                                                     : "generalized (PCL)",
+                trial, r.iterations, r.rms,
                 (r.T_target_source.translation() - T_true.translation()).norm(),
                 AngleDeg(r.T_target_source.linear(), T_true.linear()));
   }
@@ -66,6 +68,7 @@ void CheckRecovery(IcpMetric metric) {
 
 TEST(Icp, PointToPointRecoversRigidMotions) { CheckRecovery(IcpMetric::kPointToPoint); }
 TEST(Icp, PointToPlaneRecoversRigidMotions) { CheckRecovery(IcpMetric::kPointToPlane); }
+TEST(Icp, GeneralizedPclRecoversRigidMotions) { CheckRecovery(IcpMetric::kGeneralizedPcl); }
 
 TEST(Icp, PointToPlaneRefusesAPlane) {
   // A flat target leaves in-plane motion unconstrained: not converged, rather than a made-up

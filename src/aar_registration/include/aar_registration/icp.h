@@ -7,7 +7,9 @@
 
 namespace aar_registration {
 
-enum class IcpMetric { kPointToPoint, kPointToPlane };
+// Point-to-point (thesis) and point-to-plane are implemented here; generalized ICP is PCL's
+// GeneralizedIterativeClosestPoint (plane-to-plane with covariances from 20 neighbours).
+enum class IcpMetric { kPointToPoint, kPointToPlane, kGeneralizedPcl };
 
 struct IcpOptions {
   IcpMetric metric = IcpMetric::kPointToPoint;  // thesis
@@ -44,6 +46,7 @@ class Icp {
   bool has_target() const;
 
   // Throws std::invalid_argument without a target; an empty source gives converged = false.
+  // Not to be called concurrently on one object (the generalized metric keeps PCL state).
   RegistrationResult Align(const std::vector<Eigen::Vector3d>& source,
                            const Eigen::Isometry3d& T_target_source_guess) const;
 

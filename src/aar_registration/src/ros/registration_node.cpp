@@ -116,9 +116,12 @@ RegistrationNodeOptions LoadRegistrationNodeOptions(const ros::NodeHandle& nh) {
     o.icp.metric = IcpMetric::kPointToPoint;
   else if (metric == "point_to_plane")
     o.icp.metric = IcpMetric::kPointToPlane;
+  else if (metric == "generalized_pcl")
+    o.icp.metric = IcpMetric::kGeneralizedPcl;
   else
-    throw std::invalid_argument("~icp_metric must be point_to_point or point_to_plane, not '" +
-                                metric + "'");
+    throw std::invalid_argument(
+        "~icp_metric must be point_to_point, point_to_plane or generalized_pcl, not '" + metric +
+        "'");
   o.icp.max_iterations = Param(nh, "max_iterations", o.icp.max_iterations, known);
   o.icp.max_correspondence_distance =
       Param(nh, "max_correspondence_distance", o.icp.max_correspondence_distance, known);
