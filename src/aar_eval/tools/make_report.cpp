@@ -61,6 +61,7 @@ int main(int argc, char** argv) {
         << aar_eval::MarkdownRegionTable(stats, done, has_baseline ? baseline : "", false);
     out << "\n## RMS error\n\n"
         << aar_eval::MarkdownRegionTable(stats, done, has_baseline ? baseline : "", true);
+    out << "\nWhat these numbers mean for the default approach, and why: docs/RESULTS.md.\n";
     out << "\n## Error against range\n\n";
     for (const auto& e : done) {
       for (const char* kind : {"position", "orientation"}) {

@@ -8,6 +8,7 @@
 #include <map>
 #include <mutex>
 #include <set>
+#include <sstream>
 
 #include <aar_msgs/PoseError.h>
 #include <aar_msgs/PoseEstimate.h>
@@ -143,16 +144,23 @@ class EvalNode {
       records_.push_back(f);
       out_ << aar_eval::FrameCsvRow(f) << "\n" << std::flush;
       const int k = static_cast<int>(records_.size());
+      const double position =
+          std::sqrt(f.error[0] * f.error[0] + f.error[1] * f.error[1] + f.error[2] * f.error[2]);
+      if (f.estimated) position_sum_ += position, ++estimated_;
       if (k % 10 == 1 || !f.estimated) {
-        const double position =
-            std::sqrt(f.error[0] * f.error[0] + f.error[1] * f.error[1] + f.error[2] * f.error[2]);
-        ROS_INFO_STREAM("eval: frame "
-                        << k
-                        << (expected_frames_ > 0 ? " of " + std::to_string(expected_frames_) : "")
-                        << ", " << std::fixed << std::setprecision(1) << f.range_m << " m (region "
-                        << aar_geometry::RegionName(f.region) << "): "
-                        << (f.estimated ? "error " + std::to_string(position).substr(0, 5) + " m"
-                                        : "MISSED"));
+        std::ostringstream line;
+        line << "eval: frame " << k
+             << (expected_frames_ > 0 ? " of " + std::to_string(expected_frames_) : "") << ", "
+             << std::fixed << std::setprecision(1) << f.range_m << " m (region "
+             << aar_geometry::RegionName(f.region) << "): " << std::setprecision(3);
+        if (f.estimated)
+          line << "error " << position << " m";
+        else
+          line << "MISSED";
+        if (estimated_ > 0)
+          line << "; running mean " << position_sum_ / estimated_ << " m over " << estimated_
+               << " estimates";
+        ROS_INFO_STREAM(line.str());
       }
     }
   }
@@ -171,6 +179,8 @@ class EvalNode {
   std::string path_, truth_frame_, tanker_frame_;
   double stamp_offset_ = 1.0;
   int expected_frames_ = 0;
+  double position_sum_ = 0.0;  // [m] running mean of the position error's norm
+  int estimated_ = 0;
 };
 
 }  // namespace
