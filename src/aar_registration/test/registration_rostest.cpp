@@ -7,6 +7,7 @@
 #include <ros/ros.h>
 #include <rosgraph_msgs/Log.h>
 #include <sensor_msgs/point_cloud2_iterator.h>
+#include <tf2_eigen/tf2_eigen.h>
 #include <tf2_ros/static_transform_broadcaster.h>
 #include <tf2_ros/transform_listener.h>
 
@@ -15,23 +16,6 @@
 #include <limits>
 
 namespace {
-
-Eigen::Isometry3d ToEigen(const geometry_msgs::Transform& t) {
-  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.translation() << t.translation.x, t.translation.y, t.translation.z;
-  T.linear() =
-      Eigen::Quaterniond(t.rotation.w, t.rotation.x, t.rotation.y, t.rotation.z).toRotationMatrix();
-  return T;
-}
-
-Eigen::Isometry3d ToEigen(const geometry_msgs::Pose& p) {
-  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.translation() << p.position.x, p.position.y, p.position.z;
-  T.linear() =
-      Eigen::Quaterniond(p.orientation.w, p.orientation.x, p.orientation.y, p.orientation.z)
-          .toRotationMatrix();
-  return T;
-}
 
 TEST(NearContact, NoBoomErrorsUnderTenCentimetresAndOneDegree) {
   ros::NodeHandle nh;
@@ -48,8 +32,10 @@ TEST(NearContact, NoBoomErrorsUnderTenCentimetresAndOneDegree) {
   std::lock_guard<std::mutex> lock(estimates.mutex);
   for (const auto& [stamp, estimate] : estimates.by_stamp) {
     const auto truth = tf.lookupTransform("tanker", "receiver_truth", stamp, ros::Duration(2.0));
+    Eigen::Isometry3d estimated;
+    tf2::fromMsg(estimate->pose, estimated);
     const aar_geometry::PoseError e =
-        aar_geometry::ComputePoseError(ToEigen(truth.transform), ToEigen(estimate->pose));
+        aar_geometry::ComputePoseError(tf2::transformToEigen(truth), estimated);
     const double angle = aar_geometry::RadToDeg(
         Eigen::Vector3d(e.orientation_rad.roll, e.orientation_rad.pitch, e.orientation_rad.yaw)
             .norm());

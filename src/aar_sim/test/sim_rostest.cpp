@@ -14,6 +14,7 @@
 #include <sensor_msgs/CameraInfo.h>
 #include <sensor_msgs/Image.h>
 #include <sensor_msgs/JointState.h>
+#include <tf2_eigen/tf2_eigen.h>
 #include <tf2_ros/transform_listener.h>
 
 #include "aar_sim/boom_model.h"
@@ -26,14 +27,6 @@ namespace {
 
 template <typename Msg>
 using Collector = aar_sim::StampedCollector<Msg>;
-
-Eigen::Isometry3d ToEigen(const geometry_msgs::Transform& t) {
-  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.translation() << t.translation.x, t.translation.y, t.translation.z;
-  T.linear() =
-      Eigen::Quaterniond(t.rotation.w, t.rotation.x, t.rotation.y, t.rotation.z).toRotationMatrix();
-  return T;
-}
 
 TEST(Sim, StereoPairsCameraInfosAndTruth) {
   ros::NodeHandle nh, pnh("~");
@@ -84,7 +77,7 @@ TEST(Sim, StereoPairsCameraInfosAndTruth) {
     // Truth tf equals the flight path at the frame's time (stamp = 1 s + path time).
     const auto truth =
         tf_buffer.lookupTransform("tanker", "receiver_truth", stamp, ros::Duration(1.0));
-    const Eigen::Isometry3d T = ToEigen(truth.transform);
+    const Eigen::Isometry3d T = tf2::transformToEigen(truth);
     const Eigen::Isometry3d expected = path.At(stamp.toSec() - 1.0).T_tanker_receiver();
     EXPECT_LT((T.translation() - expected.translation()).norm(), 1e-6);
     EXPECT_LT(Eigen::AngleAxisd(T.linear().transpose() * expected.linear()).angle(), 1e-6);
@@ -103,8 +96,9 @@ TEST(Sim, StereoPairsCameraInfosAndTruth) {
   const auto boom = aar_geometry::LoadRobotModel(
       ros::package::getPath("aar_sim") + "/models/boom.urdf", urdf_options);
   const auto poses = aar_geometry::ComputeLinkPoses(boom, BoomJointPositions(DefaultBoomPose()));
-  EXPECT_LT((ToEigen(nozzle.transform).translation() - poses.at("nozzle_tip").translation()).norm(),
-            1e-6);
+  EXPECT_LT(
+      (tf2::transformToEigen(nozzle).translation() - poses.at("nozzle_tip").translation()).norm(),
+      1e-6);
   std::lock_guard<std::mutex> l5(joints.mutex);
   const auto& js = joints.by_stamp.begin()->second;
   ASSERT_EQ(js->name.size(), 3u);

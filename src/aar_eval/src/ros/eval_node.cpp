@@ -14,6 +14,7 @@
 #include <aar_msgs/PoseEstimate.h>
 #include <ros/ros.h>
 #include <sensor_msgs/CameraInfo.h>
+#include <tf2_eigen/tf2_eigen.h>
 #include <tf2_ros/transform_listener.h>
 
 #include "aar_eval/tables.h"
@@ -21,25 +22,6 @@
 namespace {
 
 using aar_eval::FrameRecord;
-
-Eigen::Isometry3d ToEigen(const geometry_msgs::Transform& t) {
-  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.translation() << t.translation.x, t.translation.y, t.translation.z;
-  T.linear() = Eigen::Quaterniond(t.rotation.w, t.rotation.x, t.rotation.y, t.rotation.z)
-                   .normalized()
-                   .toRotationMatrix();
-  return T;
-}
-
-Eigen::Isometry3d ToEigen(const geometry_msgs::Pose& p) {
-  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.translation() << p.position.x, p.position.y, p.position.z;
-  T.linear() =
-      Eigen::Quaterniond(p.orientation.w, p.orientation.x, p.orientation.y, p.orientation.z)
-          .normalized()
-          .toRotationMatrix();
-  return T;
-}
 
 class EvalNode {
  public:
@@ -108,7 +90,7 @@ class EvalNode {
       f.t = stamp.toSec() - stamp_offset_;
       Eigen::Isometry3d truth;
       try {
-        truth = ToEigen(tf_.lookupTransform(tanker_frame_, truth_frame_, stamp).transform);
+        truth = tf2::transformToEigen(tf_.lookupTransform(tanker_frame_, truth_frame_, stamp));
       } catch (const tf2::TransformException& e) {
         ROS_ERROR_STREAM("eval: no truth for frame " << stamp << " (" << e.what()
                                                      << "); frame left out");
@@ -120,7 +102,9 @@ class EvalNode {
       const auto it = estimates_.find(stamp);
       if (it != estimates_.end()) {
         const auto& est = *it->second;
-        const aar_geometry::PoseError e = aar_geometry::ComputePoseError(truth, ToEigen(est.pose));
+        Eigen::Isometry3d estimated;
+        tf2::fromMsg(est.pose, estimated);
+        const aar_geometry::PoseError e = aar_geometry::ComputePoseError(truth, estimated);
         f.estimated = true;
         f.error = {e.position_m.x(),
                    e.position_m.y(),

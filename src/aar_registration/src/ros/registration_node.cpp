@@ -9,31 +9,10 @@
 #include <geometry_msgs/PoseWithCovarianceStamped.h>
 #include <ros/package.h>
 #include <sensor_msgs/point_cloud2_iterator.h>
+#include <tf2_eigen/tf2_eigen.h>
 
 namespace aar_registration {
 namespace {
-
-Eigen::Isometry3d ToEigen(const geometry_msgs::Transform& t) {
-  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.translation() << t.translation.x, t.translation.y, t.translation.z;
-  T.linear() = Eigen::Quaterniond(t.rotation.w, t.rotation.x, t.rotation.y, t.rotation.z)
-                   .normalized()
-                   .toRotationMatrix();
-  return T;
-}
-
-geometry_msgs::Pose ToPose(const Eigen::Isometry3d& T) {
-  geometry_msgs::Pose p;
-  p.position.x = T.translation().x();
-  p.position.y = T.translation().y();
-  p.position.z = T.translation().z();
-  const Eigen::Quaterniond q(T.linear());
-  p.orientation.x = q.x();
-  p.orientation.y = q.y();
-  p.orientation.z = q.z();
-  p.orientation.w = q.w();
-  return p;
-}
 
 // Finite x, y, z of a cloud; throws std::invalid_argument if it has no float32 x, y, z.
 std::vector<Eigen::Vector3d> FromCloud(const sensor_msgs::PointCloud2& msg) {
@@ -182,8 +161,8 @@ void RegistrationNode::BuildStaticReference() {
         throw std::runtime_error("no tf " + options_.tanker_frame + " -> " + frame +
                                  " within 10 s, needed to shell the reference model");
       }
-      const Eigen::Isometry3d T_tanker_camera =
-          ToEigen(tf_buffer_.lookupTransform(options_.tanker_frame, frame, ros::Time(0)).transform);
+      const Eigen::Isometry3d T_tanker_camera = tf2::transformToEigen(
+          tf_buffer_.lookupTransform(options_.tanker_frame, frame, ros::Time(0)).transform);
       eyes.push_back(options_.T_tanker_receiver_nominal.inverse() * T_tanker_camera.translation());
     }
     cloud = Shell(cloud, VisibilityTester(mesh), eyes, options_.sampling.visibility_tolerance);
@@ -235,9 +214,8 @@ void RegistrationNode::OnCloud(const sensor_msgs::PointCloud2::ConstPtr& msg) {
                                "' at the cloud's stamp within " +
                                std::to_string(options_.tf_timeout) + " s");
     }
-    const Eigen::Isometry3d T_tanker_cloud = ToEigen(
-        tf_buffer_.lookupTransform(options_.tanker_frame, msg->header.frame_id, msg->header.stamp)
-            .transform);
+    const Eigen::Isometry3d T_tanker_cloud = tf2::transformToEigen(
+        tf_buffer_.lookupTransform(options_.tanker_frame, msg->header.frame_id, msg->header.stamp));
     std::vector<Eigen::Vector3d> sensed = FromCloud(*msg);
     if (sensed.size() < static_cast<size_t>(options_.icp.min_correspondences)) {
       throw std::invalid_argument("cloud has " + std::to_string(sensed.size()) +
@@ -263,7 +241,7 @@ void RegistrationNode::OnCloud(const sensor_msgs::PointCloud2::ConstPtr& msg) {
     header.frame_id = options_.tanker_frame;
     aar_msgs::PoseEstimate estimate;
     estimate.header = header;
-    estimate.pose = ToPose(T_tanker_receiver);
+    estimate.pose = tf2::toMsg(T_tanker_receiver);
     estimate.converged = r.converged;
     estimate.iterations = static_cast<uint32_t>(r.iterations);
     estimate.rms = r.rms;
@@ -277,13 +255,9 @@ void RegistrationNode::OnCloud(const sensor_msgs::PointCloud2::ConstPtr& msg) {
     geometry_msgs::PoseWithCovarianceStamped pose;  // covariance not estimated: zeros
     pose.header = header;
     pose.pose.pose = estimate.pose;
-    geometry_msgs::TransformStamped tf;
+    geometry_msgs::TransformStamped tf = tf2::eigenToTransform(T_tanker_receiver);
     tf.header = header;
     tf.child_frame_id = options_.receiver_frame;
-    tf.transform.translation.x = estimate.pose.position.x;
-    tf.transform.translation.y = estimate.pose.position.y;
-    tf.transform.translation.z = estimate.pose.position.z;
-    tf.transform.rotation = estimate.pose.orientation;
     tf_broadcaster_.sendTransform(tf);
     pose_pub_.publish(pose);
     estimate_pub_.publish(estimate);

@@ -1,6 +1,7 @@
 #include "aar_sim/ros/conversions.h"
 
 #include <sensor_msgs/image_encodings.h>
+#include <tf2_eigen/tf2_eigen.h>
 #include <boost/make_shared.hpp>
 
 namespace aar_sim {
@@ -34,18 +35,10 @@ sensor_msgs::CameraInfoPtr ToCameraInfoMsg(const CameraIntrinsics& k, double Tx,
 geometry_msgs::TransformStamped ToTransformMsg(const Eigen::Isometry3d& T, const ros::Time& stamp,
                                                const std::string& parent,
                                                const std::string& child) {
-  geometry_msgs::TransformStamped msg;
+  geometry_msgs::TransformStamped msg = tf2::eigenToTransform(T);
   msg.header.stamp = stamp;
   msg.header.frame_id = parent;
   msg.child_frame_id = child;
-  msg.transform.translation.x = T.translation().x();
-  msg.transform.translation.y = T.translation().y();
-  msg.transform.translation.z = T.translation().z();
-  const Eigen::Quaterniond q(T.linear());
-  msg.transform.rotation.x = q.x();
-  msg.transform.rotation.y = q.y();
-  msg.transform.rotation.z = q.z();
-  msg.transform.rotation.w = q.w();
   return msg;
 }
 
