@@ -1,0 +1,96 @@
+#include "aar_occlusion/volumes.h"
+
+#include <stdexcept>
+
+namespace aar_occlusion {
+
+ConvexVolume ConvexVolume::Transformed(const Eigen::Isometry3d& T) const {
+  ConvexVolume out;
+  for (const auto& p : planes) {
+    Plane q;
+    q.normal = T.linear() * p.normal;
+    q.offset = p.offset + q.normal.dot(T.translation());
+    out.planes.push_back(q);
+  }
+  return out;
+}
+
+PartView ViewPart(const aar_geometry::TriangleMesh& mesh,
+                  const aar_geometry::TriangleAdjacency& adjacency, const Eigen::Vector3d& eye,
+                  const std::string& part) {
+  if (!adjacency.closed()) {
+    throw std::invalid_argument(
+        "part '" + part + "' is not closed (" + std::to_string(adjacency.open_edges.size()) +
+        " open, " + std::to_string(adjacency.nonmanifold_edges.size()) + " non-manifold, " +
+        std::to_string(adjacency.inconsistent_edges.size()) +
+        " inconsistently wound edges): shadow volumes need closed parts");
+  }
+  if (!aar_geometry::IsConvex(mesh)) {
+    throw std::invalid_argument("part '" + part +
+                                "' is not convex: point inclusion by planes needs convex parts");
+  }
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+  for (const auto& v : mesh.vertices) centroid += v;
+  centroid /= static_cast<double>(mesh.vertices.size());
+
+  PartView view;
+  const size_t n = mesh.triangles.size();
+  view.facing.resize(n);
+  std::vector<Plane> facing_planes;
+  for (size_t t = 0; t < n; ++t) {
+    const Eigen::Vector3d normal = mesh.TriangleNormal(static_cast<int>(t));
+    const Eigen::Vector3d& v0 = mesh.vertices[mesh.triangles[t][0]];
+    // Facing: the eye on the outer side of the triangle's plane (thesis: the sign of the dot
+    // product of the triangle normal with the direction to the camera).
+    view.facing[t] = normal.dot(eye - v0) > 0.0;
+    if (view.facing[t]) facing_planes.push_back({normal, normal.dot(v0)});
+  }
+  // Inside a convex part the eye is on the inner side of every plane: nothing faces it.
+  if (facing_planes.empty()) throw std::invalid_argument("the eye is inside part '" + part + "'");
+
+  for (size_t t = 0; t < n; ++t) {
+    if (!view.facing[t]) continue;
+    for (int k = 0; k < 3; ++k) {
+      const int neighbour = adjacency.neighbors[t][k];
+      if (neighbour >= 0 && view.facing[neighbour]) continue;
+      const int a = mesh.triangles[t][k], b = mesh.triangles[t][(k + 1) % 3];
+      view.silhouette.push_back({a, b});
+      // Side plane through the eye and the edge, normal pointing away from the part.
+      Plane side;
+      side.normal = (mesh.vertices[a] - eye).cross(mesh.vertices[b] - eye).normalized();
+      side.offset = side.normal.dot(eye);
+      if (side.SignedDistance(centroid) > 0.0)
+        side.normal = -side.normal, side.offset = -side.offset;
+      view.cone.planes.push_back(side);
+    }
+  }
+  view.shadow = view.cone;
+  view.light = view.cone;
+  for (const auto& p : facing_planes) {
+    view.shadow.planes.push_back(p);                      // behind the front surface
+    view.light.planes.push_back({-p.normal, -p.offset});  // in front of it
+  }
+  return view;
+}
+
+std::vector<Visibility> Classify(const std::vector<Eigen::Vector3d>& points,
+                                 const std::vector<ConvexVolume>& left,
+                                 const std::vector<ConvexVolume>& right) {
+  auto hidden = [](const Eigen::Vector3d& p, const std::vector<ConvexVolume>& shadows) {
+    for (const auto& s : shadows) {
+      if (s.Contains(p)) return true;
+    }
+    return false;
+  };
+  std::vector<Visibility> out(points.size());
+  for (size_t i = 0; i < points.size(); ++i) {
+    const bool l = !hidden(points[i], left), r = !hidden(points[i], right);
+    out[i] = l && r ? Visibility::kBoth
+             : l    ? Visibility::kLeftOnly
+             : r    ? Visibility::kRightOnly
+                    : Visibility::kNeither;
+  }
+  return out;
+}
+
+}  // namespace aar_occlusion

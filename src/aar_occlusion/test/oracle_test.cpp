@@ -1,0 +1,110 @@
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include <aar_geometry/adjacency.h>
+#include <aar_geometry/mesh_io.h>
+#include <aar_geometry/robot_model.h>
+#include <aar_geometry/surface_sampling.h>
+#include <aar_geometry/weld.h>
+#include <aar_registration/reference_model.h>
+#include <aar_sim/boom_model.h>
+#include <aar_sim/camera.h>
+#include <aar_sim/flight_path.h>
+
+#include "aar_occlusion/volumes.h"
+
+namespace aar_occlusion {
+namespace {
+
+// Receiver samples at a pose, classified by the boom parts' shadow volumes from both cameras,
+// agree with an independent Embree ray cast against the same parts, on points farther than 1 cm
+// from every shadow boundary.
+void CheckAgainstRayCast(const aar_sim::BoomPose& boom_pose,
+                         const aar_sim::FlightPathRow& receiver_row, double min_hidden_fraction) {
+  const std::string sim = AAR_SIM_SOURCE_DIR;
+  aar_geometry::RobotModelOptions urdf;
+  urdf.package_paths = {std::filesystem::path(sim).parent_path().string()};
+  const auto boom = aar_geometry::LoadRobotModel(sim + "/models/boom.urdf", urdf);
+  const auto poses = aar_geometry::ComputeLinkPoses(boom, aar_sim::BoomJointPositions(boom_pose));
+  const aar_geometry::TriangleMesh collision =
+      aar_geometry::RobotMesh(boom, poses, aar_geometry::GeometryKind::kCollision);
+  const aar_sim::StereoRig rig =
+      aar_sim::MakeStereoRig(aar_sim::CameraIntrinsics::FromHorizontalFov(1280, 960, 60.0), 0.5);
+  const Eigen::Vector3d eyes[2] = {rig.T_tanker_left_optical.translation(),
+                                   rig.T_tanker_right_optical().translation()};
+
+  std::vector<ConvexVolume> shadows[2];
+  for (const auto& name : collision.part_names) {
+    const auto part = aar_geometry::WeldVertices(aar_geometry::SelectParts(collision, {name})).mesh;
+    const auto adjacency = aar_geometry::BuildAdjacency(part);
+    for (int e = 0; e < 2; ++e)
+      shadows[e].push_back(ViewPart(part, adjacency, eyes[e], name).shadow);
+  }
+
+  const auto receiver = aar_geometry::LoadMesh(sim + "/models/receiver.obj");
+  aar_geometry::SurfaceSamplingOptions sampling;
+  sampling.num_points = 20000;
+  sampling.seed = 5;
+  const auto samples = aar_geometry::SampleSurface(receiver, sampling);
+  std::vector<Eigen::Vector3d> points;
+  for (const auto& p : samples.points) points.push_back(receiver_row.T_tanker_receiver() * p);
+  const std::vector<Visibility> by_volumes = Classify(points, shadows[0], shadows[1]);
+
+  // Oracle: a ray from each eye to the point, against the boom parts only (the receiver's own
+  // self-occlusion is not the boom's).
+  const aar_registration::VisibilityTester rays(collision);
+  std::vector<Eigen::Vector3d> no_normal(points.size(), Eigen::Vector3d::Zero());
+  int compared = 0, agree = 0, hidden = 0;
+  std::vector<bool> seen[2];
+  for (int e = 0; e < 2; ++e) {
+    std::vector<Eigen::Vector3d> towards(points.size());
+    for (size_t i = 0; i < points.size(); ++i)
+      towards[i] = (eyes[e] - points[i]).normalized();  // "faces" the eye
+    seen[e] = rays.Visible(points, towards, eyes[e], 0.0);
+  }
+  for (size_t i = 0; i < points.size(); ++i) {
+    // Skip points within 1 cm of any shadow boundary plane that is active there.
+    bool near_boundary = false;
+    for (int e = 0; e < 2 && !near_boundary; ++e) {
+      for (const auto& s : shadows[e]) {
+        if (s.Contains(points[i], 0.01) && !s.Contains(points[i], -0.01)) near_boundary = true;
+      }
+    }
+    if (near_boundary) continue;
+    const Visibility oracle = seen[0][i] && seen[1][i] ? Visibility::kBoth
+                              : seen[0][i]             ? Visibility::kLeftOnly
+                              : seen[1][i]             ? Visibility::kRightOnly
+                                                       : Visibility::kNeither;
+    ++compared;
+    agree += oracle == by_volumes[i];
+    hidden += by_volumes[i] != Visibility::kBoth;
+  }
+  std::printf(
+      "[ oracle ] boom pitch %.0f deg roll %.0f deg ext %.1f m, receiver at %.1f m: %d of %d "
+      "points agree "
+      "(%.3f%%), %d hidden from at least one camera\n",
+      boom_pose.pitch * 180 / M_PI, boom_pose.roll * 180 / M_PI, boom_pose.extension,
+      receiver_row.position_m.norm(), agree, compared, 100.0 * agree / compared, hidden);
+  EXPECT_GT(compared, 19000);
+  EXPECT_GE(static_cast<double>(agree) / compared, 0.995);
+  EXPECT_GE(static_cast<double>(hidden) / compared,
+            min_hidden_fraction);  // the boom really occludes
+}
+
+aar_sim::FlightPathRow Row(double x, double y, double z) {
+  aar_sim::FlightPathRow row;
+  row.position_m = {x, y, z};
+  row.rpy = {0.0, -2.0 * M_PI / 180.0, 0.0};
+  return row;
+}
+
+TEST(Oracle, ShadowVolumesAgreeWithRayCasting) {
+  CheckAgainstRayCast(aar_sim::DefaultBoomPose(), Row(-35.0, 0.0, -10.19), 0.05);  // contact
+  CheckAgainstRayCast(aar_sim::DefaultBoomPose(), Row(-50.0, 0.5, -14.0), 0.01);   // region B
+  aar_sim::BoomPose swung{36.0 * M_PI / 180.0, -8.0 * M_PI / 180.0, 3.0};
+  CheckAgainstRayCast(swung, Row(-38.0, -1.0, -12.0), 0.01);
+}
+
+}  // namespace
+}  // namespace aar_occlusion
