@@ -63,7 +63,7 @@ std::string FrameCsvHeader() {
 
 std::string FrameCsvRow(const FrameRecord& f) {
   std::ostringstream s;
-  s << std::setprecision(10) << f.t << ',' << f.range_m << ',' << aar_geometry::RegionName(f.region)
+  s << std::setprecision(17) << f.t << ',' << f.range_m << ',' << aar_geometry::RegionName(f.region)
     << ',' << (f.estimated ? 1 : 0);
   for (double e : f.error) s << ',' << (f.estimated ? e : std::numeric_limits<double>::quiet_NaN());
   s << ',' << (f.converged ? 1 : 0) << ',' << f.iterations << ',' << f.rms << ','

@@ -48,6 +48,7 @@ TEST(Eval, FrameWithoutEstimateIsAMissNotACrash) {
       e.pose.position.z = -10.0;
       e.pose.orientation.w = 1.0;
       e.converged = true;
+      e.valid = true;
       estimates.publish(e);
     }
     ros::WallDuration(0.2).sleep();

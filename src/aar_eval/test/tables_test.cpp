@@ -80,6 +80,13 @@ TEST(Tables, CsvRoundTripAndErrors) {
   ASSERT_EQ(again.size(), frames.size());
   EXPECT_EQ(again[1].error[0], -3.0);
   EXPECT_FALSE(again[2].estimated);
+  // A range a hair below a region boundary keeps its region through the CSV.
+  FrameRecord edge;
+  edge.range_m = 38.0 - 1e-12;
+  edge.region = aar_geometry::RegionOfRange(edge.range_m);
+  ASSERT_EQ(edge.region, aar_geometry::Region::kC);
+  WriteFrameCsv(path, {edge});
+  EXPECT_EQ(ReadFrameCsv(path)[0].region, aar_geometry::Region::kC);
   auto expect = [](const std::string& text, const std::string& fragment) {
     const std::string p = Write("bad.csv", text);
     try {

@@ -2,6 +2,7 @@
 // tables in the thesis's layout (average error magnitude and RMS), % difference against the
 // baseline, the headline average improvement, misses, and the plots and run details if present.
 //   make_report DIR EXPERIMENT[,EXPERIMENT...] [BASELINE]
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
@@ -34,11 +35,16 @@ int main(int argc, char** argv) {
     }
     if (done.empty()) throw std::runtime_error("no experiment has results in " + dir);
     const bool has_baseline = !baseline.empty() && stats.count(baseline);
+    if (has_baseline) {  // the baseline's rows come first, the % differences against it after
+      done.erase(std::find(done.begin(), done.end(), baseline));
+      done.insert(done.begin(), baseline);
+    }
 
     std::ofstream out(dir + "/report.md");
     out << "# AAR pose estimation report\n\n";
     std::ifstream run(dir + "/run.txt");
-    if (run) out << "## Run\n\n```\n" << run.rdbuf() << "```\n\n";
+    if (run && run.peek() != std::ifstream::traits_type::eof())
+      out << "## Run\n\n```\n" << run.rdbuf() << "```\n\n";
     out << "Errors are estimate minus truth in the true receiver body frame (x, y, z in metres) "
            "and "
            "roll, pitch, yaw of R_truth^T R_estimate (degrees). Averages and RMS are over the "
@@ -70,6 +76,7 @@ int main(int argc, char** argv) {
           out << "![" << e << " " << kind << "](" << png << ")\n\n";
       }
     }
+    if (!out) throw std::runtime_error(dir + "/report.md: write failed");
     std::cout << "make_report: wrote " << dir << "/report.md (" << done.size() << " experiments)\n";
   } catch (const std::exception& e) {
     std::cerr << "make_report: " << e.what() << "\n";

@@ -28,6 +28,7 @@ TEST(AarMsgs, PoseEstimateRoundTrip) {
   sent.header.stamp = ros::Time(12, 34);
   sent.pose.position.x = -35.25;
   sent.pose.orientation.w = 1.0;
+  sent.valid = true;
   sent.converged = true;
   sent.iterations = 17;
   sent.rms = 0.0125;
@@ -43,6 +44,7 @@ TEST(AarMsgs, PoseEstimateRoundTrip) {
   EXPECT_EQ(got->header.frame_id, "tanker");
   EXPECT_EQ(got->header.stamp, sent.header.stamp);
   EXPECT_EQ(got->pose.position.x, -35.25);
+  EXPECT_TRUE(got->valid);
   EXPECT_TRUE(got->converged);
   EXPECT_EQ(got->iterations, 17u);
   EXPECT_EQ(got->reference_points, 21000u);

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
+#include <iostream>
 #include <map>
 #include <mutex>
 #include <set>
@@ -32,7 +33,9 @@ class EvalNode {
       throw std::invalid_argument("required parameter " + pnh.resolveName("output_dir") +
                                   " is not set");
     }
-    pnh.param("stamp_offset", stamp_offset_, 1.0);
+    // The simulator's stamp offset (stamp = offset + path time), read where it is configured.
+    if (!pnh.getParam("stamp_offset", stamp_offset_))
+      nh.param("/sim/stamp_offset", stamp_offset_, 1.0);
     pnh.param("expected_frames", expected_frames_, 0);
     pnh.param<std::string>("truth_frame", truth_frame_, "receiver_truth");
     pnh.param<std::string>("tanker_frame", tanker_frame_, "tanker");
@@ -51,19 +54,32 @@ class EvalNode {
     estimate_sub_.shutdown();
     std::lock_guard<std::mutex> lock(mutex_);
     Settle(ros::TIME_MAX);  // the run is over: what has no estimate now is a miss
+    // stdout, not rosconsole: it drops messages once ROS has shut down.
     const auto stats = aar_eval::ComputeRegionStats(records_);
     for (const auto& [region, s] : stats) {
-      ROS_INFO_STREAM("eval: region " << region << ": " << s.estimated << " of " << s.frames
-                                      << " frames estimated; mean |x| " << s.mean_abs[0]
-                                      << " m, |yaw| " << s.mean_abs[5] << " deg");
+      std::cout << "eval: region " << region << ": " << s.estimated << " of " << s.frames
+                << " frames estimated; mean |x| " << s.mean_abs[0] << " m, |yaw| " << s.mean_abs[5]
+                << " deg\n";
     }
-    ROS_INFO_STREAM("eval: wrote " << records_.size() << " frames to " << path_);
+    if (!estimates_.empty()) {
+      std::cout << "eval: " << estimates_.size()
+                << " estimates for frames never announced were left out\n";
+    }
+    if (no_truth_ > 0)
+      std::cout << "eval: " << no_truth_ << " frames had no truth and were left out\n";
+    std::cout << "eval: wrote " << records_.size() << " frames to " << path_ << std::endl;
   }
 
  private:
   void OnFrame(const sensor_msgs::CameraInfo::ConstPtr& info) {
     std::lock_guard<std::mutex> lock(mutex_);
-    if (!frames_.empty() && info->header.stamp <= frames_.back()) return;  // the same frame again
+    if (!frames_.empty() && info->header.stamp <= frames_.back()) {
+      if (info->header.stamp < frames_.back()) {
+        ROS_WARN_STREAM("eval: frame " << info->header.stamp << " is older than the last one ("
+                                       << frames_.back() << "): ignored; did the clock jump?");
+      }
+      return;  // the same frame again
+    }
     frames_.push_back(info->header.stamp);
     // The frame before the previous one is settled: lockstep publishes a frame only after the
     // estimate of the one before (or a timeout); one frame of grace covers message ordering.
@@ -74,7 +90,7 @@ class EvalNode {
     std::lock_guard<std::mutex> lock(mutex_);
     if (settled_.count(estimate->header.stamp)) {
       ROS_WARN_STREAM("eval: estimate for " << estimate->header.stamp
-                                            << " came after its frame was counted as a miss");
+                                            << " came after its frame was settled: ignored");
       return;
     }
     estimates_[estimate->header.stamp] = estimate;
@@ -95,12 +111,15 @@ class EvalNode {
         ROS_ERROR_STREAM("eval: no truth for frame " << stamp << " (" << e.what()
                                                      << "); frame left out");
         estimates_.erase(stamp);
+        ++no_truth_;
         continue;
       }
       f.range_m = truth.translation().norm();
       f.region = aar_geometry::RegionOfRange(f.range_m);
       const auto it = estimates_.find(stamp);
-      if (it != estimates_.end()) {
+      if (it != estimates_.end() && !it->second->valid)
+        estimates_.erase(it);  // no pose: a miss
+      else if (it != estimates_.end()) {
         const auto& est = *it->second;
         Eigen::Isometry3d estimated;
         tf2::fromMsg(est.pose, estimated);
@@ -163,6 +182,7 @@ class EvalNode {
   std::string path_, truth_frame_, tanker_frame_;
   double stamp_offset_ = 1.0;
   int expected_frames_ = 0;
+  int no_truth_ = 0;
   double position_sum_ = 0.0;  // [m] running mean of the position error's norm
   int estimated_ = 0;
 };

@@ -1,6 +1,7 @@
 #include "aar_registration/ros/registration_node.h"
 
 #include <chrono>
+#include <cstring>
 #include <set>
 
 #include <aar_geometry/mesh_io.h>
@@ -23,14 +24,33 @@ std::vector<Eigen::Vector3d> FromCloud(const sensor_msgs::PointCloud2& msg) {
     if (!found)
       throw std::invalid_argument(std::string("cloud has no float32 field '") + name + "'");
   }
-  if (msg.data.size() < static_cast<size_t>(msg.row_step) * msg.height)
-    throw std::invalid_argument("cloud is truncated");
+  // The layout must hold together before any byte is read.
+  uint32_t offsets[3] = {0, 0, 0};
+  for (int k = 0; k < 3; ++k) {
+    for (const auto& f : msg.fields) {
+      if (f.name == std::string(1, "xyz"[k])) offsets[k] = f.offset;
+    }
+    if (offsets[k] + 4 > msg.point_step)
+      throw std::invalid_argument("cloud field offsets exceed point_step");
+  }
+  if (msg.row_step < static_cast<uint64_t>(msg.width) * msg.point_step ||
+      msg.data.size() != static_cast<size_t>(msg.row_step) * msg.height) {
+    throw std::invalid_argument("cloud is malformed: " + std::to_string(msg.data.size()) +
+                                " bytes for " + std::to_string(msg.height) + " rows of " +
+                                std::to_string(msg.row_step) + " (" + std::to_string(msg.width) +
+                                " points of " + std::to_string(msg.point_step) + ")");
+  }
   std::vector<Eigen::Vector3d> points;
   points.reserve(static_cast<size_t>(msg.width) * msg.height);
-  sensor_msgs::PointCloud2ConstIterator<float> x(msg, "x"), y(msg, "y"), z(msg, "z");
-  for (; x != x.end(); ++x, ++y, ++z) {
-    if (std::isfinite(*x) && std::isfinite(*y) && std::isfinite(*z))
-      points.emplace_back(*x, *y, *z);
+  for (uint32_t row = 0; row < msg.height; ++row) {
+    for (uint32_t col = 0; col < msg.width; ++col) {
+      const uint8_t* point = &msg.data[static_cast<size_t>(row) * msg.row_step +
+                                       static_cast<size_t>(col) * msg.point_step];
+      float v[3];
+      for (int k = 0; k < 3; ++k) std::memcpy(&v[k], point + offsets[k], sizeof(float));
+      if (std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]))
+        points.emplace_back(v[0], v[1], v[2]);
+    }
   }
   return points;
 }
@@ -195,6 +215,7 @@ void RegistrationNode::OnReference(const sensor_msgs::PointCloud2::ConstPtr& msg
 }
 
 void RegistrationNode::ReportError(const std::string& what) {
+  std::lock_guard<std::mutex> lock(report_mutex_);
   const ros::WallTime now = ros::WallTime::now();
   ros::WallTime& last = last_reported_[what];
   if (last.isZero() || now - last > ros::WallDuration(5.0)) {
@@ -233,7 +254,15 @@ void RegistrationNode::OnCloud(const sensor_msgs::PointCloud2::ConstPtr& msg) {
     const RegistrationResult r = icp_.Align(sensed, seed.inverse());
     const double registration_ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    if (r.correspondences < options_.icp.min_correspondences) {
+      throw std::runtime_error("only " + std::to_string(r.correspondences) + " of " +
+                               std::to_string(sensed.size()) + " points within " +
+                               std::to_string(options_.icp.max_correspondence_distance) +
+                               " m of the reference: no pose");
+    }
     const Eigen::Isometry3d T_tanker_receiver = r.T_target_source.inverse();
+    if (!T_tanker_receiver.matrix().allFinite())
+      throw std::runtime_error("registration gave a non-finite pose");
     if (r.converged) previous_ = std::make_pair(msg->header.stamp, T_tanker_receiver);
 
     std_msgs::Header header;
@@ -241,6 +270,7 @@ void RegistrationNode::OnCloud(const sensor_msgs::PointCloud2::ConstPtr& msg) {
     header.frame_id = options_.tanker_frame;
     aar_msgs::PoseEstimate estimate;
     estimate.header = header;
+    estimate.valid = true;
     estimate.pose = tf2::toMsg(T_tanker_receiver);
     estimate.converged = r.converged;
     estimate.iterations = static_cast<uint32_t>(r.iterations);
@@ -266,6 +296,14 @@ void RegistrationNode::OnCloud(const sensor_msgs::PointCloud2::ConstPtr& msg) {
                                       << " ms" << (r.converged ? "" : " (not converged)"));
   } catch (const std::exception& e) {
     ReportError(std::string("cloud not registered, no estimate for this frame: ") + e.what());
+    aar_msgs::PoseEstimate none;  // valid = false: a miss, and lockstep moves on
+    none.header.stamp = msg->header.stamp;
+    none.header.frame_id = options_.tanker_frame;
+    none.pose.orientation.w = 1.0;
+    none.total_ms =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - received)
+            .count();
+    estimate_pub_.publish(none);
   }
 }
 

@@ -63,6 +63,7 @@ class RegistrationNode {
   Icp icp_;
   std::vector<Eigen::Vector3d> reference_points_;                    // in the receiver frame
   std::optional<std::pair<ros::Time, Eigen::Isometry3d>> previous_;  // T_tanker_receiver
+  std::mutex report_mutex_;  // guards last_reported_ (errors come from several callbacks)
   std::map<std::string, ros::WallTime> last_reported_;
 };
 
