@@ -56,10 +56,17 @@ int main(int argc, char** argv) {
       out << "## Headline\n\n";
       for (const auto& e : done) {
         if (e == baseline || !stats[e].count("all") || !stats[baseline].count("all")) continue;
+        const aar_eval::RegionStats& a = stats[e].at("all");
+        const aar_eval::RegionStats& b = stats[baseline].at("all");
         out << "- " << e << ": average improvement over " << baseline << ": " << std::fixed
-            << std::setprecision(1)
-            << aar_eval::AverageImprovement(stats[e].at("all"), stats[baseline].at("all")) << "%"
-            << (e == "dynamic" ? " (thesis: 74.1%)" : "") << "\n";
+            << std::setprecision(1) << aar_eval::AverageImprovement(a, b) << "%"
+            << (e == "dynamic" ? " (thesis: 74.1%)" : "");
+        if (a.estimated != b.estimated) {  // averages over different frames: say so
+          out << "; over different frames: " << e << " estimated " << a.estimated << " of "
+              << a.frames << ", " << baseline << " " << b.estimated << " of " << b.frames
+              << " (the rest are misses, in no average)";
+        }
+        out << "\n";
       }
       out << "\n";
     }
