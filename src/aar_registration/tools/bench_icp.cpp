@@ -66,10 +66,8 @@ int main(int argc, char** argv) {
     const auto path =
         aar_sim::FlightPath::Load(sim + "/../../config/flight_paths/approach_default.csv");
     const aar_sim::CameraIntrinsics& k = w.rig.intrinsics;
-    aar_stereo::StereoGeometry g;
-    g.width = k.width, g.height = k.height, g.fx = k.fx, g.fy = k.fy, g.cx_left = g.cx_right = k.cx,
-    g.cy = k.cy;
-    g.Tx = -k.fx * w.rig.baseline;
+    const auto g = aar_stereo::StereoGeometry::Rectified(k.width, k.height, k.fx, k.fy, k.cx, k.cy,
+                                                         w.rig.baseline);
     const aar_stereo::StereoProcessor stereo{aar_stereo::StereoOptions{}};
 
     // Shelled static reference: seen from both cameras at the contact pose (last path row).

@@ -49,6 +49,19 @@ void StereoOptions::Validate() const {
   Check(!organized || decimation == Decimation::kNone, "an organized cloud needs decimation none");
 }
 
+StereoGeometry StereoGeometry::Rectified(int width, int height, double fx, double fy, double cx,
+                                         double cy, double baseline) {
+  StereoGeometry g;
+  g.width = width;
+  g.height = height;
+  g.fx = fx;
+  g.fy = fy;
+  g.cx_left = g.cx_right = cx;
+  g.cy = cy;
+  g.Tx = -fx * baseline;
+  return g;
+}
+
 cv::Matx44d StereoGeometry::Q() const {
   // Disparities are pre-adjusted by (cx_left - cx_right), as stereo_image_proc does, so the
   // principal points' difference does not appear here.

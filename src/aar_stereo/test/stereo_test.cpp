@@ -14,14 +14,8 @@ namespace {
 
 // 640x480, 60 deg horizontal field of view, 0.5 m baseline.
 StereoGeometry Geometry() {
-  StereoGeometry g;
-  g.width = 640;
-  g.height = 480;
-  g.fx = g.fy = 320.0 / std::tan(M_PI / 6.0);
-  g.cx_left = g.cx_right = 319.5;
-  g.cy = 239.5;
-  g.Tx = -g.fx * 0.5;
-  return g;
+  const double f = 320.0 / std::tan(M_PI / 6.0);
+  return StereoGeometry::Rectified(640, 480, f, f, 319.5, 239.5, 0.5);
 }
 
 // Horizontal bands, each a fronto-parallel plane at its own depth [m].

@@ -85,10 +85,8 @@ int main(int argc, char** argv) {
         aar_sim::FlightPath::Load(sim + "/../../config/flight_paths/approach_default.csv");
     const aar_sim::CameraIntrinsics& k = w.rig.intrinsics;
 
-    aar_stereo::StereoGeometry g;
-    g.width = k.width, g.height = k.height, g.fx = k.fx, g.fy = k.fy, g.cx_left = g.cx_right = k.cx,
-    g.cy = k.cy;
-    g.Tx = -k.fx * w.rig.baseline;
+    const auto g = aar_stereo::StereoGeometry::Rectified(k.width, k.height, k.fx, k.fy, k.cx, k.cy,
+                                                         w.rig.baseline);
     const aar_stereo::StereoOptions options;  // thesis defaults: BM 9 / 48, every 8th point
     aar_stereo::StereoOptions all = options;
     all.decimation = aar_stereo::Decimation::kNone;

@@ -52,6 +52,9 @@ struct StereoGeometry {
   double Tx = 0;               // right P[0][3] [px * m]
 
   double baseline() const { return -Tx / fx; }  // [m]
+  // A rectified pair with one principal point [px] and a baseline [m].
+  static StereoGeometry Rectified(int width, int height, double fx, double fy, double cx, double cy,
+                                  double baseline);
   // 4x4 reprojection matrix: [x y z w]^T = Q [u v d 1]^T (image_geometry's StereoCameraModel).
   cv::Matx44d Q() const;
   // Throws std::invalid_argument naming what is wrong (zero focal length, no baseline, ...).
