@@ -73,6 +73,28 @@ PartView ViewPart(const aar_geometry::TriangleMesh& mesh,
   return view;
 }
 
+aar_geometry::TriangleMesh ShadowVolumeMesh(const aar_geometry::TriangleMesh& mesh,
+                                            const PartView& view, const Eigen::Vector3d& eye,
+                                            double length) {
+  aar_geometry::TriangleMesh out;
+  out.AddPart("shadow");
+  out.vertices = mesh.vertices;
+  for (size_t t = 0; t < mesh.triangles.size(); ++t) {
+    if (view.facing[t]) out.triangles.push_back(mesh.triangles[t]);
+  }
+  for (const auto& edge : view.silhouette) {
+    const int a = edge.from, b = edge.to;
+    const int far = static_cast<int>(out.vertices.size());
+    out.vertices.push_back(mesh.vertices[a] + length * (mesh.vertices[a] - eye).normalized());
+    out.vertices.push_back(mesh.vertices[b] + length * (mesh.vertices[b] - eye).normalized());
+    // Wound so that the side faces point out of the volume.
+    out.triangles.emplace_back(b, a, far);
+    out.triangles.emplace_back(b, far, far + 1);
+  }
+  out.triangle_parts.assign(out.triangles.size(), 0);
+  return out;
+}
+
 std::vector<Visibility> Classify(const std::vector<Eigen::Vector3d>& points,
                                  const std::vector<ConvexVolume>& left,
                                  const std::vector<ConvexVolume>& right) {

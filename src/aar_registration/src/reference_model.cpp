@@ -1,6 +1,7 @@
 #include "aar_registration/reference_model.h"
 
 #include <algorithm>
+#include <limits>
 #include <stdexcept>
 
 #include <embree3/rtcore.h>
@@ -112,6 +113,30 @@ std::vector<bool> VisibilityTester::Visible(const std::vector<Eigen::Vector3d>& 
     visible[i] = ray.tfar >= 0.0f;  // Embree sets tfar to -inf when something is hit
   }
   return visible;
+}
+
+std::vector<bool> VisibilityTester::RayHits(const Eigen::Vector3d& origin,
+                                            const std::vector<Eigen::Vector3d>& points) const {
+  std::vector<bool> hit(points.size(), false);
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  for (size_t i = 0; i < points.size(); ++i) {
+    const Eigen::Vector3d d = (points[i] - origin).normalized();
+    if (!d.allFinite()) continue;
+    RTCRay ray{};
+    ray.org_x = static_cast<float>(origin.x());
+    ray.org_y = static_cast<float>(origin.y());
+    ray.org_z = static_cast<float>(origin.z());
+    ray.dir_x = static_cast<float>(d.x());
+    ray.dir_y = static_cast<float>(d.y());
+    ray.dir_z = static_cast<float>(d.z());
+    ray.tnear = 0.0f;
+    ray.tfar = std::numeric_limits<float>::infinity();
+    ray.mask = 0xffffffff;
+    rtcOccluded1(bvh_->scene, &context, &ray);
+    hit[i] = ray.tfar < 0.0f;
+  }
+  return hit;
 }
 
 ReferenceCloud Shell(const ReferenceCloud& dense, const VisibilityTester& receiver,

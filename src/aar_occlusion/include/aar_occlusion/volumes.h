@@ -53,6 +53,12 @@ PartView ViewPart(const aar_geometry::TriangleMesh& mesh,
                   const aar_geometry::TriangleAdjacency& adjacency, const Eigen::Vector3d& eye,
                   const std::string& part = "part");
 
+// The shadow volume as triangles for display: the camera-facing triangles (the cap) and each
+// silhouette edge extruded `length` [m] away from the eye. In the part's frame.
+aar_geometry::TriangleMesh ShadowVolumeMesh(const aar_geometry::TriangleMesh& mesh,
+                                            const PartView& view, const Eigen::Vector3d& eye,
+                                            double length);
+
 // Per point, seen by each of two eyes through a set of occluders' shadow volumes.
 enum class Visibility : uint8_t { kBoth = 0, kLeftOnly = 1, kRightOnly = 2, kNeither = 3 };
 

@@ -48,6 +48,11 @@ class VisibilityTester {
                             const std::vector<Eigen::Vector3d>& normals, const Eigen::Vector3d& eye,
                             double tolerance) const;
 
+  // hit[i]: the ray from `origin` through points[i], on to infinity, hits the mesh (thesis 3.7's
+  // ray-collision test: a hit before or beyond the point both count).
+  std::vector<bool> RayHits(const Eigen::Vector3d& origin,
+                            const std::vector<Eigen::Vector3d>& points) const;
+
  private:
   struct Bvh;
   std::unique_ptr<Bvh> bvh_;

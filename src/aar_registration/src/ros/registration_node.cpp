@@ -1,5 +1,8 @@
 #include "aar_registration/ros/registration_node.h"
 
+#include "aar_registration/ros/conversions.h"
+#include "aar_registration/ros/node_utils.h"
+
 #include <chrono>
 #include <cstring>
 #include <set>
@@ -13,77 +16,11 @@
 #include <tf2_eigen/tf2_eigen.h>
 
 namespace aar_registration {
-namespace {
-
-// Finite x, y, z of a cloud; throws std::invalid_argument if it has no float32 x, y, z.
-std::vector<Eigen::Vector3d> FromCloud(const sensor_msgs::PointCloud2& msg) {
-  for (const char* name : {"x", "y", "z"}) {
-    bool found = false;
-    for (const auto& f : msg.fields)
-      found |= f.name == name && f.datatype == sensor_msgs::PointField::FLOAT32;
-    if (!found)
-      throw std::invalid_argument(std::string("cloud has no float32 field '") + name + "'");
-  }
-  // The layout must hold together before any byte is read.
-  uint32_t offsets[3] = {0, 0, 0};
-  for (int k = 0; k < 3; ++k) {
-    for (const auto& f : msg.fields) {
-      if (f.name == std::string(1, "xyz"[k])) offsets[k] = f.offset;
-    }
-    if (offsets[k] + 4 > msg.point_step)
-      throw std::invalid_argument("cloud field offsets exceed point_step");
-  }
-  if (msg.row_step < static_cast<uint64_t>(msg.width) * msg.point_step ||
-      msg.data.size() != static_cast<size_t>(msg.row_step) * msg.height) {
-    throw std::invalid_argument("cloud is malformed: " + std::to_string(msg.data.size()) +
-                                " bytes for " + std::to_string(msg.height) + " rows of " +
-                                std::to_string(msg.row_step) + " (" + std::to_string(msg.width) +
-                                " points of " + std::to_string(msg.point_step) + ")");
-  }
-  std::vector<Eigen::Vector3d> points;
-  points.reserve(static_cast<size_t>(msg.width) * msg.height);
-  for (uint32_t row = 0; row < msg.height; ++row) {
-    for (uint32_t col = 0; col < msg.width; ++col) {
-      const uint8_t* point = &msg.data[static_cast<size_t>(row) * msg.row_step +
-                                       static_cast<size_t>(col) * msg.point_step];
-      float v[3];
-      for (int k = 0; k < 3; ++k) std::memcpy(&v[k], point + offsets[k], sizeof(float));
-      if (std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]))
-        points.emplace_back(v[0], v[1], v[2]);
-    }
-  }
-  return points;
-}
-
-// Waits for a transform in wall-clock time. tf2's own timed wait counts simulated time, which
-// stands still in lockstep while the simulator waits for this node.
-bool WaitForTransform(const tf2_ros::Buffer& buffer, const std::string& target,
-                      const std::string& source, const ros::Time& time, double timeout_s) {
-  const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(timeout_s);
-  while (!buffer.canTransform(target, source, time)) {
-    if (ros::WallTime::now() > deadline || !ros::ok()) return false;
-    ros::WallDuration(0.005).sleep();
-  }
-  return true;
-}
-
-template <typename T>
-T Param(const ros::NodeHandle& nh, const std::string& name, const T& fallback,
-        std::set<std::string>& known) {
-  known.insert(name);
-  T value = fallback;
-  if (nh.hasParam(name) && !nh.getParam(name, value)) {
-    throw std::invalid_argument("parameter " + nh.resolveName(name) + " has the wrong type");
-  }
-  return value;
-}
-
-}  // namespace
 
 RegistrationNodeOptions LoadRegistrationNodeOptions(const ros::NodeHandle& nh) {
   RegistrationNodeOptions o;
-  std::set<std::string> known;
-  const std::string reference = Param<std::string>(nh, "reference", "shelled", known);
+  ParamReader params(nh);
+  const std::string reference = params.Get<std::string>("reference", "shelled");
   if (reference == "shelled")
     o.reference = ReferenceKind::kShelled;
   else if (reference == "wings_nose")
@@ -95,22 +32,21 @@ RegistrationNodeOptions LoadRegistrationNodeOptions(const ros::NodeHandle& nh) {
   else
     throw std::invalid_argument("~reference must be shelled, wings_nose, dense or topic, not '" +
                                 reference + "'");
-  o.receiver_mesh = Param<std::string>(
-      nh, "receiver_mesh", ros::package::getPath("aar_sim") + "/models/receiver.obj", known);
-  o.sampling.points_per_m2 = Param(nh, "sample_density", o.sampling.points_per_m2, known);
-  o.sampling.seed = static_cast<uint64_t>(Param(nh, "sample_seed", 1, known));
+  o.receiver_mesh = params.Get<std::string>(
+      "receiver_mesh", ros::package::getPath("aar_sim") + "/models/receiver.obj");
+  o.sampling.points_per_m2 = params.Get("sample_density", o.sampling.points_per_m2);
+  o.sampling.seed = static_cast<uint64_t>(params.Get("sample_seed", 1));
   o.sampling.visibility_tolerance =
-      Param(nh, "visibility_tolerance", o.sampling.visibility_tolerance, known);
+      params.Get("visibility_tolerance", o.sampling.visibility_tolerance);
   // Nominal pose for shelling: the default approach's contact pose.
-  const Eigen::Vector3d nominal(Param(nh, "nominal_x", -35.0, known),
-                                Param(nh, "nominal_y", 0.0, known),
-                                Param(nh, "nominal_z", -10.19, known));
+  const Eigen::Vector3d nominal(params.Get("nominal_x", -35.0), params.Get("nominal_y", 0.0),
+                                params.Get("nominal_z", -10.19));
   const aar_geometry::RollPitchYaw nominal_rpy{
-      aar_geometry::DegToRad(Param(nh, "nominal_roll_deg", 0.0, known)),
-      aar_geometry::DegToRad(Param(nh, "nominal_pitch_deg", -2.0, known)),
-      aar_geometry::DegToRad(Param(nh, "nominal_yaw_deg", 0.0, known))};
+      aar_geometry::DegToRad(params.Get("nominal_roll_deg", 0.0)),
+      aar_geometry::DegToRad(params.Get("nominal_pitch_deg", -2.0)),
+      aar_geometry::DegToRad(params.Get("nominal_yaw_deg", 0.0))};
   o.T_tanker_receiver_nominal = aar_geometry::MakeTransform(nominal, nominal_rpy);
-  const std::string metric = Param<std::string>(nh, "icp_metric", "point_to_point", known);
+  const std::string metric = params.Get<std::string>("icp_metric", "point_to_point");
   if (metric == "point_to_point")
     o.icp.metric = IcpMetric::kPointToPoint;
   else if (metric == "point_to_plane")
@@ -121,33 +57,26 @@ RegistrationNodeOptions LoadRegistrationNodeOptions(const ros::NodeHandle& nh) {
     throw std::invalid_argument(
         "~icp_metric must be point_to_point, point_to_plane or generalized_pcl, not '" + metric +
         "'");
-  o.icp.max_iterations = Param(nh, "max_iterations", o.icp.max_iterations, known);
+  o.icp.max_iterations = params.Get("max_iterations", o.icp.max_iterations);
   o.icp.max_correspondence_distance =
-      Param(nh, "max_correspondence_distance", o.icp.max_correspondence_distance, known);
-  o.icp.min_rms_improvement = Param(nh, "min_rms_improvement", o.icp.min_rms_improvement, known);
-  o.icp.rms_epsilon = Param(nh, "rms_epsilon", o.icp.rms_epsilon, known);
-  const std::string seed = Param<std::string>(nh, "seed", "centroid", known);
+      params.Get("max_correspondence_distance", o.icp.max_correspondence_distance);
+  o.icp.min_rms_improvement = params.Get("min_rms_improvement", o.icp.min_rms_improvement);
+  o.icp.rms_epsilon = params.Get("rms_epsilon", o.icp.rms_epsilon);
+  const std::string seed = params.Get<std::string>("seed", "centroid");
   if (seed == "centroid")
     o.seed = SeedMode::kCentroid;
   else if (seed == "previous")
     o.seed = SeedMode::kPrevious;
   else
     throw std::invalid_argument("~seed must be centroid or previous, not '" + seed + "'");
-  o.previous_max_age = Param(nh, "previous_max_age", o.previous_max_age, known);
-  o.tanker_frame = Param(nh, "tanker_frame", o.tanker_frame, known);
-  o.receiver_frame = Param(nh, "receiver_frame", o.receiver_frame, known);
-  o.left_camera_frame = Param(nh, "left_camera_frame", o.left_camera_frame, known);
-  o.right_camera_frame = Param(nh, "right_camera_frame", o.right_camera_frame, known);
-  o.tf_timeout = Param(nh, "tf_timeout", o.tf_timeout, known);
+  o.previous_max_age = params.Get("previous_max_age", o.previous_max_age);
+  o.tanker_frame = params.Get("tanker_frame", o.tanker_frame);
+  o.receiver_frame = params.Get("receiver_frame", o.receiver_frame);
+  o.left_camera_frame = params.Get("left_camera_frame", o.left_camera_frame);
+  o.right_camera_frame = params.Get("right_camera_frame", o.right_camera_frame);
+  o.tf_timeout = params.Get("tf_timeout", o.tf_timeout);
 
-  std::vector<std::string> names;
-  nh.getParamNames(names);
-  const std::string prefix = nh.getNamespace() + "/";
-  for (const auto& name : names) {
-    if (name.rfind(prefix, 0) == 0 && !known.count(name.substr(prefix.size()))) {
-      throw std::invalid_argument("unknown parameter " + name + " (misspelt?)");
-    }
-  }
+  params.RejectUnknown();
   return o;
 }
 
@@ -157,16 +86,21 @@ RegistrationNode::RegistrationNode(ros::NodeHandle nh, ros::NodeHandle,
   pose_pub_ = nh_.advertise<geometry_msgs::PoseWithCovarianceStamped>("aar/receiver_pose", 10);
   estimate_pub_ = nh_.advertise<aar_msgs::PoseEstimate>("aar/pose_estimate", 10);
   if (options_.reference == ReferenceKind::kTopic) {
-    reference_sub_ = nh_.subscribe("aar/reference_cloud", 2, &RegistrationNode::OnReference, this);
+    // Each cloud is registered to the reference built for its own frame (same stamp).
+    points_filter_.subscribe(nh_, "points", 5);
+    reference_filter_.subscribe(nh_, "aar/reference_cloud", 5);
+    sync_ = std::make_unique<Sync>(points_filter_, reference_filter_, 10);
+    sync_->registerCallback(&RegistrationNode::OnPair, this);
   } else {
     BuildStaticReference();
+    cloud_sub_ = nh_.subscribe("points", 2, &RegistrationNode::OnCloud, this);
   }
-  cloud_sub_ = nh_.subscribe("points", 2, &RegistrationNode::OnCloud, this);
 }
 
 RegistrationNode::~RegistrationNode() {
   cloud_sub_.shutdown();
-  reference_sub_.shutdown();
+  points_filter_.unsubscribe();
+  reference_filter_.unsubscribe();
 }
 
 void RegistrationNode::BuildStaticReference() {
@@ -200,18 +134,47 @@ void RegistrationNode::BuildStaticReference() {
                   << " s");
 }
 
-void RegistrationNode::OnReference(const sensor_msgs::PointCloud2::ConstPtr& msg) {
+void RegistrationNode::SetReference(const sensor_msgs::PointCloud2& msg) {
+  const CloudPoints cloud = FromCloud(msg);
+  std::vector<uint32_t> keep;  // the points both cameras see (class 0) when classes are given
+  if (HasField(msg, "visibility")) {
+    const std::vector<double> classes = ReadField(msg, "visibility", cloud.indices);
+    for (size_t i = 0; i < classes.size(); ++i) {
+      if (classes[i] == 0.0) keep.push_back(static_cast<uint32_t>(i));
+    }
+  } else {
+    for (uint32_t i = 0; i < cloud.points.size(); ++i) keep.push_back(i);
+  }
+  if (keep.size() < 10) {
+    throw std::invalid_argument("reference cloud has " + std::to_string(keep.size()) +
+                                " usable points");
+  }
+  std::vector<Eigen::Vector3d> points, normals;
+  for (const uint32_t i : keep) points.push_back(cloud.points[i]);
+  if (HasField(msg, "normal_x")) {
+    std::vector<uint32_t> at;
+    for (const uint32_t i : keep) at.push_back(cloud.indices[i]);
+    const auto nx = ReadField(msg, "normal_x", at), ny = ReadField(msg, "normal_y", at),
+               nz = ReadField(msg, "normal_z", at);
+    for (size_t i = 0; i < at.size(); ++i) normals.emplace_back(nx[i], ny[i], nz[i]);
+    icp_.SetTarget(points, normals);
+  } else {
+    icp_.SetTarget(points);  // point-to-plane needs normals: it refuses such a target
+  }
+  reference_points_ = std::move(points);
+}
+
+void RegistrationNode::OnPair(const sensor_msgs::PointCloud2::ConstPtr& points,
+                              const sensor_msgs::PointCloud2::ConstPtr& reference) {
+  std::lock_guard<std::mutex> lock(mutex_);
   try {
-    std::vector<Eigen::Vector3d> points = FromCloud(*msg);
-    if (points.size() < 10)
-      throw std::invalid_argument("reference cloud has " + std::to_string(points.size()) +
-                                  " points");
-    std::lock_guard<std::mutex> lock(mutex_);
-    icp_.SetTarget(points);  // point-to-plane needs normals: topic references give none yet
-    reference_points_ = std::move(points);
+    SetReference(*reference);
   } catch (const std::exception& e) {
+    icp_ = Icp(options_.icp);  // no stale target: this frame gets no estimate
+    reference_points_.clear();
     ReportError(std::string("reference cloud rejected: ") + e.what());
   }
+  Register(points);
 }
 
 void RegistrationNode::ReportError(const std::string& what) {
@@ -225,8 +188,12 @@ void RegistrationNode::ReportError(const std::string& what) {
 }
 
 void RegistrationNode::OnCloud(const sensor_msgs::PointCloud2::ConstPtr& msg) {
-  const auto received = std::chrono::steady_clock::now();
   std::lock_guard<std::mutex> lock(mutex_);
+  Register(msg);
+}
+
+void RegistrationNode::Register(const sensor_msgs::PointCloud2::ConstPtr& msg) {
+  const auto received = std::chrono::steady_clock::now();
   try {
     if (!icp_.has_target()) throw std::runtime_error("no reference model yet");
     if (!WaitForTransform(tf_buffer_, options_.tanker_frame, msg->header.frame_id,
@@ -237,7 +204,7 @@ void RegistrationNode::OnCloud(const sensor_msgs::PointCloud2::ConstPtr& msg) {
     }
     const Eigen::Isometry3d T_tanker_cloud = tf2::transformToEigen(
         tf_buffer_.lookupTransform(options_.tanker_frame, msg->header.frame_id, msg->header.stamp));
-    std::vector<Eigen::Vector3d> sensed = FromCloud(*msg);
+    std::vector<Eigen::Vector3d> sensed = FromCloud(*msg).points;
     if (sensed.size() < static_cast<size_t>(options_.icp.min_correspondences)) {
       throw std::invalid_argument("cloud has " + std::to_string(sensed.size()) +
                                   " finite points, too few to register");

@@ -5,6 +5,8 @@
 #include <optional>
 #include <string>
 
+#include <message_filters/subscriber.h>
+#include <message_filters/time_synchronizer.h>
 #include <ros/ros.h>
 #include <sensor_msgs/PointCloud2.h>
 #include <tf2_ros/buffer.h>
@@ -47,7 +49,10 @@ class RegistrationNode {
 
  private:
   void OnCloud(const sensor_msgs::PointCloud2::ConstPtr& msg);
-  void OnReference(const sensor_msgs::PointCloud2::ConstPtr& msg);
+  void Register(const sensor_msgs::PointCloud2::ConstPtr& msg);  // mutex_ held
+  void OnPair(const sensor_msgs::PointCloud2::ConstPtr& points,
+              const sensor_msgs::PointCloud2::ConstPtr& reference);
+  void SetReference(const sensor_msgs::PointCloud2& msg);  // throws std::invalid_argument
   void BuildStaticReference();
   void ReportError(const std::string& what);
 
@@ -57,7 +62,11 @@ class RegistrationNode {
   tf2_ros::TransformListener tf_listener_;
   tf2_ros::TransformBroadcaster tf_broadcaster_;
   ros::Publisher pose_pub_, estimate_pub_;
-  ros::Subscriber cloud_sub_, reference_sub_;
+  ros::Subscriber cloud_sub_;
+  using Sync =
+      message_filters::TimeSynchronizer<sensor_msgs::PointCloud2, sensor_msgs::PointCloud2>;
+  message_filters::Subscriber<sensor_msgs::PointCloud2> points_filter_, reference_filter_;
+  std::unique_ptr<Sync> sync_;
 
   std::mutex mutex_;  // the target and the previous estimate
   Icp icp_;

@@ -1,0 +1,108 @@
+#pragma once
+
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <aar_geometry/adjacency.h>
+#include <aar_geometry/robot_model.h>
+#include <aar_geometry/triangle_mesh.h>
+
+#include "aar_occlusion/volumes.h"
+
+namespace aar_registration {
+class VisibilityTester;
+}
+
+namespace aar_occlusion {
+
+// One closed convex collision element of the boom, welded, in its own frame.
+struct BoomPart {
+  std::string name;  // the collision element's name
+  std::string link;
+  Eigen::Isometry3d T_link_part = Eigen::Isometry3d::Identity();
+  aar_geometry::TriangleMesh mesh;
+  aar_geometry::TriangleAdjacency adjacency;
+  aar_geometry::TriangleMesh inflated;  // every face pushed out by the cull margin
+  aar_geometry::TriangleAdjacency inflated_adjacency;
+};
+
+// Every collision element of the model as a BoomPart, grown by `cull_margin` [m] for culling.
+// Throws std::invalid_argument naming the link: a link with visual geometry but no collision
+// geometry (it would hide the receiver and never be culled), a part that is open, inconsistently
+// wound or not convex, or a model without any collision geometry.
+std::vector<BoomPart> LoadBoomParts(const aar_geometry::RobotModel& model, double cull_margin);
+
+// A closed convex mesh with every face plane moved out by `margin` [m] (the thesis's boom
+// "extruded equally in all directions"): each vertex moves to the least-squares meeting point of
+// its faces' offset planes, exact where at most three distinct planes meet (boxes, cylinders).
+aar_geometry::TriangleMesh Inflate(const aar_geometry::TriangleMesh& convex, double margin);
+
+// How sensed points on the boom are found, always from the left camera (stereo points lie on
+// its pixel rays).
+enum class CullMethod {
+  kNone,
+  kRaysBrute,  // thesis 3.7: ray from the eye through the point against every inflated triangle
+  kRaysBvh,    // the same rays through an Embree BVH
+  kVolumes,    // point inclusion in the inflated parts' light and shadow volumes (the default)
+};
+CullMethod ParseCullMethod(const std::string& name);  // none|rays_brute|rays_bvh|volumes
+std::string ToString(CullMethod method);
+
+struct BoomOcclusionOptions {
+  double rebuild_tolerance = 1e-6;  // [m] link or eye motion that rebuilds the volumes
+};
+
+// The boom's shadow volumes for two eyes and its cull volumes for the left eye, all in the tanker
+// frame, rebuilt whenever a link or an eye moves (thesis 3.8, Eq. 4-6).
+class BoomOcclusion {
+ public:
+  explicit BoomOcclusion(std::vector<BoomPart> parts, const BoomOcclusionOptions& options = {});
+  ~BoomOcclusion();
+
+  // The links the parts hang on: the poses Update needs.
+  std::vector<std::string> links() const;
+
+  // Places the parts (T_tanker_link for every link in links()) and the eyes [m, tanker frame].
+  // Returns true when the volumes were rebuilt, false when nothing moved. Throws
+  // std::invalid_argument naming a missing link or a part an eye is inside of.
+  bool Update(const std::map<std::string, Eigen::Isometry3d>& T_tanker_links,
+              const Eigen::Vector3d& left_eye, const Eigen::Vector3d& right_eye);
+  bool ready() const { return ready_; }
+
+  // is_boom[i] for points in the tanker frame. Requires ready().
+  std::vector<bool> Cull(const std::vector<Eigen::Vector3d>& points, CullMethod method) const;
+  // Per point: which eyes the boom does not hide it from.
+  std::vector<Visibility> Classify(const std::vector<Eigen::Vector3d>& points) const;
+  // Per point and eye: hidden by the boom. eye 0 left, 1 right.
+  bool Hidden(const Eigen::Vector3d& point, int eye) const;
+
+  const std::vector<BoomPart>& parts() const { return parts_; }
+  const Eigen::Isometry3d& T_tanker_part(size_t part) const { return T_tanker_parts_[part]; }
+  const Eigen::Vector3d& eye(int e) const { return eyes_[e]; }
+  const PartView& view(int eye, size_t part) const { return views_[eye][part]; }  // part frame
+  const std::vector<ConvexVolume>& shadows(int eye) const { return shadows_[eye]; }
+  const std::vector<ConvexVolume>& cull_volumes() const { return cull_; }
+  const aar_geometry::TriangleMesh& inflated_boom() const { return inflated_boom_; }  // tanker
+
+ private:
+  bool Moved(const std::map<std::string, Eigen::Isometry3d>& T_tanker_links,
+             const Eigen::Vector3d& left_eye, const Eigen::Vector3d& right_eye) const;
+  bool RayHitsBrute(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction) const;
+
+  std::vector<BoomPart> parts_;
+  BoomOcclusionOptions options_;
+  bool ready_ = false;
+  std::map<std::string, Eigen::Isometry3d> T_tanker_links_;
+  Eigen::Vector3d eyes_[2];
+  std::vector<Eigen::Isometry3d> T_tanker_parts_;
+  std::vector<PartView> views_[2];
+  std::vector<ConvexVolume> shadows_[2];
+  std::vector<ConvexVolume> cull_;
+  aar_geometry::TriangleMesh inflated_boom_;
+  std::vector<Eigen::Matrix3d> brute_triangles_;  // columns: v0, v1 - v0, v2 - v0
+  std::unique_ptr<aar_registration::VisibilityTester> bvh_;
+};
+
+}  // namespace aar_occlusion

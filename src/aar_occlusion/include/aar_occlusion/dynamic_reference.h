@@ -1,0 +1,62 @@
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include <aar_geometry/triangle_mesh.h>
+#include <aar_registration/reference_model.h>
+
+#include "aar_occlusion/boom.h"
+
+namespace aar_occlusion {
+
+struct DynamicReferenceOptions {
+  double visibility_tolerance = 0.01;  // [m] self-occlusion: hits closer than this do not hide
+  // [m] self-occlusion is recomputed when an eye, seen from the receiver, has moved farther than
+  // this since the last computation; 0 recomputes it every frame.
+  double reshell_distance = 0.0;
+};
+
+// The reference model of one frame (thesis 3.8): the samples some eye sees past the receiver
+// itself, each with its class through the boom's shadow volumes.
+struct DynamicReferenceResult {
+  aar_registration::ReferenceCloud cloud;  // receiver frame
+  std::vector<Visibility> classes;         // per point of cloud
+  size_t both = 0;                         // points seen by both eyes: what ICP registers to
+  bool reshelled = false;                  // self-occlusion recomputed this frame
+};
+
+class DynamicReference {
+ public:
+  // `dense`: samples of `receiver`, both in the receiver frame. Throws std::invalid_argument for
+  // an empty cloud.
+  DynamicReference(aar_registration::ReferenceCloud dense,
+                   const aar_geometry::TriangleMesh& receiver,
+                   const DynamicReferenceOptions& options = {});
+  ~DynamicReference();
+
+  // At the predicted pose, with the eyes and shadow volumes of `boom` (which must be ready()).
+  // A point is hidden from an eye when it faces away, the receiver hides it, or it lies in that
+  // eye's boom shadow.
+  DynamicReferenceResult Build(const Eigen::Isometry3d& T_tanker_receiver,
+                               const BoomOcclusion& boom);
+  // The same without a boom: self-occlusion only, eyes [tanker frame].
+  DynamicReferenceResult Build(const Eigen::Isometry3d& T_tanker_receiver,
+                               const Eigen::Vector3d& left_eye, const Eigen::Vector3d& right_eye);
+
+  size_t size() const { return dense_.size(); }
+
+ private:
+  DynamicReferenceResult Build(const Eigen::Isometry3d& T_tanker_receiver,
+                               const Eigen::Vector3d& left_eye, const Eigen::Vector3d& right_eye,
+                               const BoomOcclusion* boom);
+
+  aar_registration::ReferenceCloud dense_;
+  DynamicReferenceOptions options_;
+  std::unique_ptr<aar_registration::VisibilityTester> receiver_;
+  bool shelled_ = false;
+  Eigen::Vector3d shelled_eyes_[2];  // receiver frame
+  std::vector<bool> self_visible_[2];
+};
+
+}  // namespace aar_occlusion

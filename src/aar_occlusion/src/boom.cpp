@@ -1,0 +1,258 @@
+#include "aar_occlusion/boom.h"
+
+#include <algorithm>
+#include <stdexcept>
+
+#include <Eigen/Dense>
+
+#include <aar_geometry/weld.h>
+#include <aar_registration/reference_model.h>
+
+namespace aar_occlusion {
+
+using aar_geometry::TriangleMesh;
+
+TriangleMesh Inflate(const TriangleMesh& mesh, double margin) {
+  std::vector<std::vector<Eigen::Vector3d>> normals(mesh.vertices.size());
+  for (size_t t = 0; t < mesh.triangles.size(); ++t) {
+    const Eigen::Vector3d n = mesh.TriangleNormal(static_cast<int>(t));
+    if (n.isZero()) continue;
+    for (int k = 0; k < 3; ++k) {
+      auto& list = normals[mesh.triangles[t][k]];
+      bool known = false;
+      for (const auto& m : list) known = known || m.dot(n) > 1.0 - 1e-9;
+      if (!known) list.push_back(n);
+    }
+  }
+  TriangleMesh out = mesh;
+  for (size_t v = 0; v < mesh.vertices.size(); ++v) {
+    const auto& list = normals[v];
+    if (list.empty()) continue;
+    Eigen::MatrixXd A(list.size(), 3);
+    for (size_t i = 0; i < list.size(); ++i) A.row(i) = list[i].transpose();
+    // Minimum-norm least squares: a vertex on a flat face moves along its normal.
+    const Eigen::VectorXd b = Eigen::VectorXd::Constant(list.size(), margin);
+    out.vertices[v] += A.completeOrthogonalDecomposition().solve(b);
+  }
+  return out;
+}
+
+std::vector<BoomPart> LoadBoomParts(const aar_geometry::RobotModel& model, double cull_margin) {
+  if (!(cull_margin >= 0.0))
+    throw std::invalid_argument("cull margin must be >= 0, not " + std::to_string(cull_margin));
+  std::vector<BoomPart> parts;
+  for (const auto& link : model.links) {
+    if (link.collisions.empty() && !link.visuals.empty()) {
+      throw std::invalid_argument("boom link '" + link.name +
+                                  "' has visual but no collision geometry: it would hide the "
+                                  "receiver without shadow volumes and its points would not be "
+                                  "culled");
+    }
+    for (const auto& element : link.collisions) {
+      BoomPart part;
+      part.name = element.name;
+      part.link = link.name;
+      part.T_link_part = element.T_link_geometry;
+      part.mesh = aar_geometry::WeldVertices(element.mesh).mesh;
+      part.adjacency = aar_geometry::BuildAdjacency(part.mesh);
+      const std::string where = "collision part '" + part.name + "' of boom link '" + link.name;
+      if (!part.adjacency.closed()) {
+        throw std::invalid_argument(
+            where + "' is not closed (" + std::to_string(part.adjacency.open_edges.size()) +
+            " open, " + std::to_string(part.adjacency.nonmanifold_edges.size()) +
+            " non-manifold, " + std::to_string(part.adjacency.inconsistent_edges.size()) +
+            " inconsistently wound edges): shadow volumes need closed convex parts");
+      }
+      if (!aar_geometry::IsConvex(part.mesh, 1e-6)) {
+        throw std::invalid_argument(
+            where + "' is not convex: point inclusion by planes needs convex parts");
+      }
+      part.inflated = Inflate(part.mesh, cull_margin);
+      part.inflated_adjacency = aar_geometry::BuildAdjacency(part.inflated);
+      if (!aar_geometry::IsConvex(part.inflated, 1e-3 * std::max(cull_margin, 1e-3))) {
+        throw std::invalid_argument(where + "' is not convex once grown by " +
+                                    std::to_string(cull_margin) + " m");
+      }
+      parts.push_back(std::move(part));
+    }
+  }
+  if (parts.empty())
+    throw std::invalid_argument("boom model '" + model.name + "' has no collision geometry");
+  return parts;
+}
+
+CullMethod ParseCullMethod(const std::string& name) {
+  if (name == "none") return CullMethod::kNone;
+  if (name == "rays_brute") return CullMethod::kRaysBrute;
+  if (name == "rays_bvh") return CullMethod::kRaysBvh;
+  if (name == "volumes") return CullMethod::kVolumes;
+  throw std::invalid_argument("cull method must be none, rays_brute, rays_bvh or volumes, not '" +
+                              name + "'");
+}
+
+std::string ToString(CullMethod method) {
+  switch (method) {
+    case CullMethod::kNone:
+      return "none";
+    case CullMethod::kRaysBrute:
+      return "rays_brute";
+    case CullMethod::kRaysBvh:
+      return "rays_bvh";
+    case CullMethod::kVolumes:
+      return "volumes";
+  }
+  return "?";
+}
+
+BoomOcclusion::BoomOcclusion(std::vector<BoomPart> parts, const BoomOcclusionOptions& options)
+    : parts_(std::move(parts)), options_(options) {
+  if (parts_.empty()) throw std::invalid_argument("BoomOcclusion: no boom parts");
+}
+
+BoomOcclusion::~BoomOcclusion() = default;
+
+std::vector<std::string> BoomOcclusion::links() const {
+  std::vector<std::string> out;
+  for (const auto& p : parts_) {
+    if (std::find(out.begin(), out.end(), p.link) == out.end()) out.push_back(p.link);
+  }
+  return out;
+}
+
+bool BoomOcclusion::Moved(const std::map<std::string, Eigen::Isometry3d>& T_tanker_links,
+                          const Eigen::Vector3d& left_eye, const Eigen::Vector3d& right_eye) const {
+  if (!ready_) return true;
+  const double tol = options_.rebuild_tolerance;
+  if ((left_eye - eyes_[0]).cwiseAbs().maxCoeff() > tol ||
+      (right_eye - eyes_[1]).cwiseAbs().maxCoeff() > tol)
+    return true;
+  for (const auto& [link, T_old] : T_tanker_links_) {
+    const Eigen::Isometry3d& T_new = T_tanker_links.at(link);
+    // Rotation entries times a 10 m lever: about the motion of the boom's far end.
+    if ((T_new.translation() - T_old.translation()).cwiseAbs().maxCoeff() > tol ||
+        10.0 * (T_new.linear() - T_old.linear()).cwiseAbs().maxCoeff() > tol)
+      return true;
+  }
+  return false;
+}
+
+bool BoomOcclusion::Update(const std::map<std::string, Eigen::Isometry3d>& T_tanker_links,
+                           const Eigen::Vector3d& left_eye, const Eigen::Vector3d& right_eye) {
+  std::map<std::string, Eigen::Isometry3d> used;
+  for (const auto& link : links()) {
+    const auto it = T_tanker_links.find(link);
+    if (it == T_tanker_links.end())
+      throw std::invalid_argument("no pose for boom link '" + link + "'");
+    if (!it->second.matrix().allFinite())
+      throw std::invalid_argument("the pose of boom link '" + link + "' is not finite");
+    used[link] = it->second;
+  }
+  if (!left_eye.allFinite() || !right_eye.allFinite())
+    throw std::invalid_argument("a camera position is not finite");
+  if (!Moved(used, left_eye, right_eye)) return false;
+
+  ready_ = false;  // stays false if a part refuses an eye below
+  const Eigen::Vector3d eyes[2] = {left_eye, right_eye};
+  std::vector<Eigen::Isometry3d> T_parts;
+  std::vector<PartView> views[2];
+  std::vector<ConvexVolume> shadows[2], cull;
+  TriangleMesh inflated;
+  for (const auto& part : parts_) {
+    const Eigen::Isometry3d T = used.at(part.link) * part.T_link_part;
+    const std::string name = part.name + "' of link '" + part.link;
+    T_parts.push_back(T);
+    for (int e = 0; e < 2; ++e) {
+      // Thesis Eq. 4-5: the eye in the part's frame; the planes go back to the tanker frame.
+      views[e].push_back(ViewPart(part.mesh, part.adjacency, T.inverse() * eyes[e], name));
+      shadows[e].push_back(views[e].back().shadow.Transformed(T));
+    }
+    cull.push_back(
+        ViewPart(part.inflated, part.inflated_adjacency, T.inverse() * eyes[0], name + " (grown)")
+            .cone.Transformed(T));
+    inflated.Append(part.inflated, T);
+  }
+  brute_triangles_.clear();
+  for (const auto& t : inflated.triangles) {
+    Eigen::Matrix3d m;
+    m.col(0) = inflated.vertices[t[0]];
+    m.col(1) = inflated.vertices[t[1]] - inflated.vertices[t[0]];
+    m.col(2) = inflated.vertices[t[2]] - inflated.vertices[t[0]];
+    brute_triangles_.push_back(m);
+  }
+  bvh_ = std::make_unique<aar_registration::VisibilityTester>(inflated);
+  T_tanker_links_ = std::move(used);
+  eyes_[0] = left_eye;
+  eyes_[1] = right_eye;
+  T_tanker_parts_ = std::move(T_parts);
+  for (int e = 0; e < 2; ++e) {
+    views_[e] = std::move(views[e]);
+    shadows_[e] = std::move(shadows[e]);
+  }
+  cull_ = std::move(cull);
+  inflated_boom_ = std::move(inflated);
+  ready_ = true;
+  return true;
+}
+
+bool BoomOcclusion::RayHitsBrute(const Eigen::Vector3d& o, const Eigen::Vector3d& d) const {
+  // Moller-Trumbore, any hit in front of the eye.
+  for (const auto& m : brute_triangles_) {
+    const Eigen::Vector3d e1 = m.col(1), e2 = m.col(2);
+    const Eigen::Vector3d p = d.cross(e2);
+    const double det = e1.dot(p);
+    if (std::abs(det) < 1e-12) continue;
+    const double inv = 1.0 / det;
+    const Eigen::Vector3d s = o - m.col(0);
+    const double u = s.dot(p) * inv;
+    if (u < 0.0 || u > 1.0) continue;
+    const Eigen::Vector3d q = s.cross(e1);
+    const double v = d.dot(q) * inv;
+    if (v < 0.0 || u + v > 1.0) continue;
+    if (e2.dot(q) * inv > 0.0) return true;
+  }
+  return false;
+}
+
+std::vector<bool> BoomOcclusion::Cull(const std::vector<Eigen::Vector3d>& points,
+                                      CullMethod method) const {
+  if (!ready_) throw std::logic_error("BoomOcclusion::Cull before a successful Update");
+  std::vector<bool> boom(points.size(), false);
+  switch (method) {
+    case CullMethod::kNone:
+      break;
+    case CullMethod::kRaysBrute:
+      for (size_t i = 0; i < points.size(); ++i) {
+        const Eigen::Vector3d d = (points[i] - eyes_[0]).normalized();
+        boom[i] = d.allFinite() && RayHitsBrute(eyes_[0], d);
+      }
+      break;
+    case CullMethod::kRaysBvh:
+      boom = bvh_->RayHits(eyes_[0], points);
+      break;
+    case CullMethod::kVolumes:
+      for (size_t i = 0; i < points.size(); ++i) {
+        for (const auto& v : cull_) {
+          if (v.Contains(points[i])) {
+            boom[i] = true;
+            break;
+          }
+        }
+      }
+      break;
+  }
+  return boom;
+}
+
+bool BoomOcclusion::Hidden(const Eigen::Vector3d& point, int eye) const {
+  for (const auto& s : shadows_[eye]) {
+    if (s.Contains(point)) return true;
+  }
+  return false;
+}
+
+std::vector<Visibility> BoomOcclusion::Classify(const std::vector<Eigen::Vector3d>& points) const {
+  if (!ready_) throw std::logic_error("BoomOcclusion::Classify before a successful Update");
+  return aar_occlusion::Classify(points, shadows_[0], shadows_[1]);
+}
+
+}  // namespace aar_occlusion

@@ -1,0 +1,222 @@
+#include "aar_occlusion/boom.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <random>
+
+#include <aar_geometry/mesh_io.h>
+#include <aar_geometry/primitives.h>
+#include <aar_geometry/surface_sampling.h>
+#include <aar_geometry/weld.h>
+#include <aar_sim/boom_model.h>
+#include <aar_sim/camera.h>
+
+#include "aar_occlusion/dynamic_reference.h"
+
+namespace aar_occlusion {
+namespace {
+
+using aar_geometry::TriangleMesh;
+
+const std::string kSim = AAR_SIM_SOURCE_DIR;
+
+aar_geometry::RobotModel Boom() {
+  aar_geometry::RobotModelOptions urdf;
+  urdf.package_paths = {std::filesystem::path(kSim).parent_path().string()};
+  return aar_geometry::LoadRobotModel(kSim + "/models/boom.urdf", urdf);
+}
+
+// Largest signed distance of `points` to the planes of `mesh`'s faces (negative: inside all).
+double MaxPlaneDistance(const TriangleMesh& mesh, const std::vector<Eigen::Vector3d>& points,
+                        bool min_over_planes) {
+  double worst = min_over_planes ? 1e9 : -1e9;
+  for (size_t t = 0; t < mesh.triangles.size(); ++t) {
+    const Eigen::Vector3d n = mesh.TriangleNormal(static_cast<int>(t));
+    const Eigen::Vector3d& v0 = mesh.vertices[mesh.triangles[t][0]];
+    double far = -1e9;
+    for (const auto& p : points) far = std::max(far, n.dot(p - v0));
+    worst = min_over_planes ? std::min(worst, far) : std::max(worst, far);
+  }
+  return worst;
+}
+
+TEST(Inflate, EveryFacePlaneMovesOutByTheMargin) {
+  const double margin = 0.1;
+  const TriangleMesh shapes[] = {
+      aar_geometry::WeldVertices(aar_geometry::MakeBox({1.2, 0.9, 0.6})).mesh,
+      aar_geometry::WeldVertices(aar_geometry::MakeCylinder(0.3, 2.5)).mesh,
+      aar_geometry::WeldVertices(aar_geometry::MakeSphere(0.11)).mesh};
+  for (size_t s = 0; s < 3; ++s) {
+    const TriangleMesh grown = Inflate(shapes[s], margin);
+    EXPECT_TRUE(aar_geometry::IsConvex(grown, 1e-4)) << s;
+    // The original's farthest vertex beyond each grown face plane: -margin for every plane
+    // (exact where three planes meet, boxes and cylinders; the icosphere within 10 %).
+    const double tol = s < 2 ? 1e-9 : 0.1 * margin;
+    EXPECT_NEAR(MaxPlaneDistance(grown, shapes[s].vertices, false), -margin, tol) << s;
+    EXPECT_NEAR(MaxPlaneDistance(grown, shapes[s].vertices, true), -margin, tol) << s;
+  }
+}
+
+TEST(BoomParts, TheShippedBoomHasTwelveClosedConvexParts) {
+  const auto parts = LoadBoomParts(Boom(), 0.1);
+  EXPECT_EQ(parts.size(), 12u);
+  for (const auto& p : parts) {
+    EXPECT_TRUE(p.adjacency.closed()) << p.name;
+    EXPECT_TRUE(p.inflated_adjacency.closed()) << p.name;
+  }
+}
+
+// A URDF whose links are given as XML, meshes next to it.
+aar_geometry::RobotModel ModelFrom(const std::string& links) {
+  const std::string xml = "<robot name=\"r\">" + links + "</robot>";
+  return aar_geometry::ParseRobotModel(xml, "test", ::testing::TempDir());
+}
+
+void WriteObj(const std::string& name, const std::string& text) {
+  std::ofstream(::testing::TempDir() + "/" + name) << text;
+}
+
+TEST(BoomParts, BadPartsAreRefusedNamingTheLink) {
+  auto expect_error = [](const std::string& links, const std::string& needle) {
+    try {
+      LoadBoomParts(ModelFrom(links), 0.1);
+      ADD_FAILURE() << "no error for " << needle;
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
+    }
+  };
+  expect_error(
+      "<link name=\"fairing\"><visual><geometry><box size=\"1 1 1\"/></geometry></visual></link>",
+      "boom link 'fairing' has visual but no collision geometry");
+  expect_error("<link name=\"empty\"/>", "no collision geometry");
+  // An open box: the top face missing.
+  WriteObj("open.obj",
+           "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n"
+           "f 1 3 2\nf 1 4 3\nf 1 2 6\nf 1 6 5\nf 2 3 7\nf 2 7 6\nf 3 4 8\nf 3 8 7\n"
+           "f 4 1 5\nf 4 5 8\n");
+  expect_error(
+      "<link name=\"tube\"><collision><geometry><mesh filename=\"open.obj\"/></geometry>"
+      "</collision></link>",
+      "of boom link 'tube' is not closed (4 open");
+  // A closed L-shaped prism: not convex.
+  WriteObj("ell.obj",
+           "v 0 0 0\nv 2 0 0\nv 2 1 0\nv 1 1 0\nv 1 2 0\nv 0 2 0\n"
+           "v 0 0 1\nv 2 0 1\nv 2 1 1\nv 1 1 1\nv 1 2 1\nv 0 2 1\n"
+           "f 1 3 2\nf 1 4 3\nf 1 6 4\nf 4 6 5\n"
+           "f 7 8 9\nf 7 9 10\nf 7 10 12\nf 10 11 12\n"
+           "f 1 2 8\nf 1 8 7\nf 2 3 9\nf 2 9 8\nf 3 4 10\nf 3 10 9\n"
+           "f 4 5 11\nf 4 11 10\nf 5 6 12\nf 5 12 11\nf 6 1 7\nf 6 7 12\n");
+  expect_error(
+      "<link name=\"bracket\"><collision><geometry><mesh filename=\"ell.obj\"/></geometry>"
+      "</collision></link>",
+      "of boom link 'bracket' is not convex");
+}
+
+// The boom at a pose, seen from the default rig.
+struct Scene {
+  std::unique_ptr<BoomOcclusion> boom;
+  std::map<std::string, Eigen::Isometry3d> links;
+  Eigen::Vector3d eyes[2];
+};
+
+Scene MakeScene(const aar_sim::BoomPose& pose) {
+  const auto model = Boom();
+  Scene s;
+  s.boom = std::make_unique<BoomOcclusion>(LoadBoomParts(model, 0.1));
+  s.links = aar_geometry::ComputeLinkPoses(model, aar_sim::BoomJointPositions(pose));
+  const auto rig =
+      aar_sim::MakeStereoRig(aar_sim::CameraIntrinsics::FromHorizontalFov(1280, 960, 60.0), 0.5);
+  s.eyes[0] = rig.T_tanker_left_optical.translation();
+  s.eyes[1] = rig.T_tanker_right_optical().translation();
+  EXPECT_TRUE(s.boom->Update(s.links, s.eyes[0], s.eyes[1]));
+  return s;
+}
+
+TEST(BoomOcclusion, RebuildsOnlyWhenSomethingMoves) {
+  Scene s = MakeScene(aar_sim::DefaultBoomPose());
+  EXPECT_FALSE(s.boom->Update(s.links, s.eyes[0], s.eyes[1]));
+  auto moved = s.links;
+  moved.at("telescope").translation().x() += 0.01;
+  EXPECT_TRUE(s.boom->Update(moved, s.eyes[0], s.eyes[1]));
+  EXPECT_TRUE(s.boom->Update(moved, s.eyes[0] + Eigen::Vector3d(0, 0, 0.01), s.eyes[1]));
+  auto missing = s.links;
+  missing.erase("telescope");
+  try {
+    s.boom->Update(missing, s.eyes[0], s.eyes[1]);
+    ADD_FAILURE() << "no error for a missing link";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_STREQ(e.what(), "no pose for boom link 'telescope'");
+  }
+}
+
+TEST(BoomOcclusion, RaysAndVolumesCullTheSamePoints) {
+  Scene s = MakeScene(aar_sim::DefaultBoomPose());
+  // Points on the boom's visual surface, and points scattered around and behind it.
+  const auto model = Boom();
+  const TriangleMesh visual =
+      aar_geometry::RobotMesh(model, s.links, aar_geometry::GeometryKind::kVisual);
+  aar_geometry::SurfaceSamplingOptions sampling;
+  sampling.num_points = 3000;
+  sampling.seed = 3;
+  std::vector<Eigen::Vector3d> points = aar_geometry::SampleSurface(visual, sampling).points;
+  const size_t on_boom = points.size();
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  const Eigen::Vector3d centre = visual.Bounds().center();
+  for (int i = 0; i < 20000; ++i)
+    points.push_back(centre + Eigen::Vector3d(8 * u(rng), 4 * u(rng), 6 * u(rng)));
+
+  const auto brute = s.boom->Cull(points, CullMethod::kRaysBrute);
+  const auto bvh = s.boom->Cull(points, CullMethod::kRaysBvh);
+  const auto volumes = s.boom->Cull(points, CullMethod::kVolumes);
+  int differ_bvh = 0, differ_volumes = 0, culled = 0, on_boom_culled = 0;
+  for (size_t i = 0; i < points.size(); ++i) {
+    differ_bvh += brute[i] != bvh[i];
+    differ_volumes += brute[i] != volumes[i];
+    culled += volumes[i];
+    if (i < on_boom) on_boom_culled += volumes[i];
+  }
+  std::printf("[ cull ] %d of %zu points culled; BVH differs on %d, volumes on %d\n", culled,
+              points.size(), differ_bvh, differ_volumes);
+  // The visual boom lies inside the grown collision parts, bar a few samples of detail.
+  EXPECT_GE(on_boom_culled, static_cast<int>(0.995 * on_boom));
+  EXPECT_GT(culled, static_cast<int>(on_boom) + 500);  // and the cones reach past it
+  EXPECT_LT(culled, static_cast<int>(points.size()) / 2);
+  // Float rays (Embree) and grazing rays may differ on a handful of points.
+  EXPECT_LE(differ_bvh, 5);
+  EXPECT_LE(differ_volumes, 5);
+
+  EXPECT_EQ(s.boom->Cull(points, CullMethod::kNone), std::vector<bool>(points.size(), false));
+}
+
+TEST(DynamicReference, TheBoomHidesPartOfTheReceiverAtContact) {
+  Scene s = MakeScene(aar_sim::DefaultBoomPose());
+  const TriangleMesh receiver = aar_geometry::LoadMesh(kSim + "/models/receiver.obj");
+  aar_registration::ReferenceModelOptions sampling;
+  sampling.points_per_m2 = 150.0;
+  DynamicReference reference(aar_registration::SampleReceiver(receiver, sampling), receiver);
+  const Eigen::Isometry3d T_tanker_receiver =
+      aar_geometry::MakeTransform({-35.0, 0.0, -10.19}, {0.0, -2.0 * M_PI / 180.0, 0.0});
+  const auto without = reference.Build(T_tanker_receiver, s.eyes[0], s.eyes[1]);
+  const auto with = reference.Build(T_tanker_receiver, *s.boom);
+  EXPECT_TRUE(without.reshelled);
+  EXPECT_FALSE(with.reshelled);  // same pose, reshell_distance 0: the eyes did not move
+  ASSERT_EQ(with.cloud.size(), without.cloud.size());
+  ASSERT_EQ(with.classes.size(), with.cloud.size());
+  size_t counts[4] = {0, 0, 0, 0};
+  for (const auto c : with.classes) ++counts[static_cast<int>(c)];
+  std::printf(
+      "[ dynamic ] %zu samples seen past the receiver itself: both %zu, left %zu, right "
+      "%zu, neither %zu (without the boom: both %zu)\n",
+      with.cloud.size(), counts[0], counts[1], counts[2], counts[3], without.both);
+  EXPECT_EQ(counts[0], with.both);
+  EXPECT_LT(with.both, without.both - 500);  // the boom hides a real part at contact
+  EXPECT_GT(counts[1] + counts[2], 50u);     // and the cameras see round it differently
+  EXPECT_GT(with.both, with.cloud.size() / 3);
+  EXPECT_LT(with.cloud.size(), reference.size());  // the far side is self-occluded
+}
+
+}  // namespace
+}  // namespace aar_occlusion
