@@ -20,7 +20,7 @@ TriangleMesh Inflate(const TriangleMesh& mesh, double margin) {
     for (int k = 0; k < 3; ++k) {
       auto& list = normals[mesh.triangles[t][k]];
       bool known = false;
-      for (const auto& m : list) known = known || m.dot(n) > 1.0 - 1e-9;
+      for (const auto& m : list) known = known || m.dot(n) > 1.0 - 1e-6;  // within 1.4 mrad
       if (!known) list.push_back(n);
     }
   }
@@ -37,9 +37,12 @@ TriangleMesh Inflate(const TriangleMesh& mesh, double margin) {
   return out;
 }
 
-std::vector<BoomPart> LoadBoomParts(const aar_geometry::RobotModel& model, double cull_margin) {
-  if (!(cull_margin >= 0.0))
-    throw std::invalid_argument("cull margin must be >= 0, not " + std::to_string(cull_margin));
+std::vector<BoomPart> LoadBoomParts(const aar_geometry::RobotModel& model,
+                                    const BoomPartsOptions& options) {
+  for (const double margin : {options.cull_margin, options.silhouette_margin}) {
+    if (!(margin >= 0.0))
+      throw std::invalid_argument("boom margins must be >= 0, not " + std::to_string(margin));
+  }
   std::vector<BoomPart> parts;
   for (const auto& link : model.links) {
     if (link.collisions.empty() && !link.visuals.empty()) {
@@ -63,16 +66,24 @@ std::vector<BoomPart> LoadBoomParts(const aar_geometry::RobotModel& model, doubl
             " non-manifold, " + std::to_string(part.adjacency.inconsistent_edges.size()) +
             " inconsistently wound edges): shadow volumes need closed convex parts");
       }
-      if (!aar_geometry::IsConvex(part.mesh, 1e-6)) {
+      // 0.1 mm: mesh files round vertices (6 decimals in OBJ), which tilts thin facets.
+      if (!aar_geometry::IsConvex(part.mesh, 1e-4)) {
         throw std::invalid_argument(
             where + "' is not convex: point inclusion by planes needs convex parts");
       }
-      part.inflated = Inflate(part.mesh, cull_margin);
-      part.inflated_adjacency = aar_geometry::BuildAdjacency(part.inflated);
-      if (!aar_geometry::IsConvex(part.inflated, 1e-3 * std::max(cull_margin, 1e-3))) {
-        throw std::invalid_argument(where + "' is not convex once grown by " +
-                                    std::to_string(cull_margin) + " m");
-      }
+      const auto grow = [&](double margin) {
+        TriangleMesh grown = Inflate(part.mesh, margin);
+        // Least-squares corners on thin facets may dent by a fraction of a millimetre.
+        if (!aar_geometry::IsConvex(grown, 1e-4 + 1e-2 * margin)) {
+          throw std::invalid_argument(where + "' is not convex once grown by " +
+                                      std::to_string(margin) + " m");
+        }
+        return grown;
+      };
+      part.grown = grow(options.cull_margin);
+      part.grown_adjacency = aar_geometry::BuildAdjacency(part.grown);
+      part.outline = grow(options.silhouette_margin);
+      part.outline_adjacency = aar_geometry::BuildAdjacency(part.outline);
       parts.push_back(std::move(part));
     }
   }
@@ -156,30 +167,39 @@ bool BoomOcclusion::Update(const std::map<std::string, Eigen::Isometry3d>& T_tan
   std::vector<Eigen::Isometry3d> T_parts;
   std::vector<PartView> views[2];
   std::vector<ConvexVolume> shadows[2], cull;
-  TriangleMesh inflated;
+  TriangleMesh grown, outline;
   for (const auto& part : parts_) {
     const Eigen::Isometry3d T = used.at(part.link) * part.T_link_part;
+    const Eigen::Isometry3d T_inv = T.inverse();
     const std::string name = part.name + "' of link '" + part.link;
     T_parts.push_back(T);
     for (int e = 0; e < 2; ++e) {
       // Thesis Eq. 4-5: the eye in the part's frame; the planes go back to the tanker frame.
-      views[e].push_back(ViewPart(part.mesh, part.adjacency, T.inverse() * eyes[e], name));
+      views[e].push_back(ViewPart(part.mesh, part.adjacency, T_inv * eyes[e], name, false));
       shadows[e].push_back(views[e].back().shadow.Transformed(T));
     }
-    cull.push_back(
-        ViewPart(part.inflated, part.inflated_adjacency, T.inverse() * eyes[0], name + " (grown)")
-            .cone.Transformed(T));
-    inflated.Append(part.inflated, T);
+    // Culling is from the left eye: stereo points lie on its pixel rays.
+    const PartView near =
+        ViewPart(part.grown, part.grown_adjacency, T_inv * eyes[0], name + "' (grown)", false);
+    ConvexVolume volume = near.cone;  // light volume, part and shadow: the whole ray
+    if (!options_.cull_behind_boom) {
+      // Up to the far side: inside the planes of the triangles turned away from the eye (the eye
+      // is inside them all, and a ray leaves the part through one of them).
+      for (size_t t = 0; t < part.grown.triangles.size(); ++t) {
+        if (near.facing[t]) continue;
+        const Eigen::Vector3d n = part.grown.TriangleNormal(static_cast<int>(t));
+        volume.planes.push_back({n, n.dot(part.grown.vertices[part.grown.triangles[t][0]])});
+      }
+      cull.push_back(ViewPart(part.outline, part.outline_adjacency, T_inv * eyes[0],
+                              name + "' (outline)", false)
+                         .cone.Transformed(T));
+    }
+    cull.push_back(volume.Transformed(T));
+    grown.Append(part.grown, T);
+    outline.Append(part.outline, T);
   }
-  brute_triangles_.clear();
-  for (const auto& t : inflated.triangles) {
-    Eigen::Matrix3d m;
-    m.col(0) = inflated.vertices[t[0]];
-    m.col(1) = inflated.vertices[t[1]] - inflated.vertices[t[0]];
-    m.col(2) = inflated.vertices[t[2]] - inflated.vertices[t[0]];
-    brute_triangles_.push_back(m);
-  }
-  bvh_ = std::make_unique<aar_registration::VisibilityTester>(inflated);
+  grown_.Build(grown);
+  outline_.Build(outline);
   T_tanker_links_ = std::move(used);
   eyes_[0] = left_eye;
   eyes_[1] = right_eye;
@@ -189,14 +209,25 @@ bool BoomOcclusion::Update(const std::map<std::string, Eigen::Isometry3d>& T_tan
     shadows_[e] = std::move(shadows[e]);
   }
   cull_ = std::move(cull);
-  inflated_boom_ = std::move(inflated);
   ready_ = true;
   return true;
 }
 
-bool BoomOcclusion::RayHitsBrute(const Eigen::Vector3d& o, const Eigen::Vector3d& d) const {
-  // Moller-Trumbore, any hit in front of the eye.
-  for (const auto& m : brute_triangles_) {
+void BoomOcclusion::RayTarget::Build(const TriangleMesh& mesh) {
+  triangles.clear();
+  for (const auto& t : mesh.triangles) {
+    Eigen::Matrix3d m;
+    m.col(0) = mesh.vertices[t[0]];
+    m.col(1) = mesh.vertices[t[1]] - mesh.vertices[t[0]];
+    m.col(2) = mesh.vertices[t[2]] - mesh.vertices[t[0]];
+    triangles.push_back(m);
+  }
+  bvh = std::make_unique<aar_registration::VisibilityTester>(mesh);
+}
+
+bool BoomOcclusion::RayTarget::HitsBrute(const Eigen::Vector3d& o, const Eigen::Vector3d& d) const {
+  // Moller-Trumbore, any hit ahead of the origin.
+  for (const auto& m : triangles) {
     const Eigen::Vector3d e1 = m.col(1), e2 = m.col(2);
     const Eigen::Vector3d p = d.cross(e2);
     const double det = e1.dot(p);
@@ -217,18 +248,32 @@ std::vector<bool> BoomOcclusion::Cull(const std::vector<Eigen::Vector3d>& points
                                       CullMethod method) const {
   if (!ready_) throw std::logic_error("BoomOcclusion::Cull before a successful Update");
   std::vector<bool> boom(points.size(), false);
+  const bool behind = options_.cull_behind_boom;
+  std::vector<Eigen::Vector3d> directions(points.size());
+  for (size_t i = 0; i < points.size(); ++i) directions[i] = (points[i] - eyes_[0]).normalized();
+  // Rays: from the eye through the point against the grown boom (thesis), or else from the point
+  // on away from the eye against the grown boom (it hits exactly when the point is in front of
+  // the far side) and from the eye through the point against the outline.
   switch (method) {
     case CullMethod::kNone:
       break;
     case CullMethod::kRaysBrute:
       for (size_t i = 0; i < points.size(); ++i) {
-        const Eigen::Vector3d d = (points[i] - eyes_[0]).normalized();
-        boom[i] = d.allFinite() && RayHitsBrute(eyes_[0], d);
+        const Eigen::Vector3d& d = directions[i];
+        if (!d.allFinite()) continue;
+        boom[i] = behind ? grown_.HitsBrute(eyes_[0], d)
+                         : grown_.HitsBrute(points[i], d) || outline_.HitsBrute(eyes_[0], d);
       }
       break;
-    case CullMethod::kRaysBvh:
-      boom = bvh_->RayHits(eyes_[0], points);
+    case CullMethod::kRaysBvh: {
+      const std::vector<Eigen::Vector3d> eye(points.size(), eyes_[0]);
+      boom = grown_.bvh->RaysHit(behind ? eye : points, directions);
+      if (!behind) {
+        const std::vector<bool> through = outline_.bvh->RaysHit(eye, directions);
+        for (size_t i = 0; i < points.size(); ++i) boom[i] = boom[i] || through[i];
+      }
       break;
+    }
     case CullMethod::kVolumes:
       for (size_t i = 0; i < points.size(); ++i) {
         for (const auto& v : cull_) {

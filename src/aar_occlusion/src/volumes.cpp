@@ -17,15 +17,15 @@ ConvexVolume ConvexVolume::Transformed(const Eigen::Isometry3d& T) const {
 
 PartView ViewPart(const aar_geometry::TriangleMesh& mesh,
                   const aar_geometry::TriangleAdjacency& adjacency, const Eigen::Vector3d& eye,
-                  const std::string& part) {
-  if (!adjacency.closed()) {
+                  const std::string& part, bool validate) {
+  if (validate && !adjacency.closed()) {
     throw std::invalid_argument(
         "part '" + part + "' is not closed (" + std::to_string(adjacency.open_edges.size()) +
         " open, " + std::to_string(adjacency.nonmanifold_edges.size()) + " non-manifold, " +
         std::to_string(adjacency.inconsistent_edges.size()) +
         " inconsistently wound edges): shadow volumes need closed parts");
   }
-  if (!aar_geometry::IsConvex(mesh)) {
+  if (validate && !aar_geometry::IsConvex(mesh)) {
     throw std::invalid_argument("part '" + part +
                                 "' is not convex: point inclusion by planes needs convex parts");
   }

@@ -60,11 +60,11 @@ TEST(Inflate, EveryFacePlaneMovesOutByTheMargin) {
 }
 
 TEST(BoomParts, TheShippedBoomHasTwelveClosedConvexParts) {
-  const auto parts = LoadBoomParts(Boom(), 0.1);
+  const auto parts = LoadBoomParts(Boom());
   EXPECT_EQ(parts.size(), 12u);
   for (const auto& p : parts) {
     EXPECT_TRUE(p.adjacency.closed()) << p.name;
-    EXPECT_TRUE(p.inflated_adjacency.closed()) << p.name;
+    EXPECT_TRUE(p.grown_adjacency.closed()) << p.name;
   }
 }
 
@@ -81,7 +81,7 @@ void WriteObj(const std::string& name, const std::string& text) {
 TEST(BoomParts, BadPartsAreRefusedNamingTheLink) {
   auto expect_error = [](const std::string& links, const std::string& needle) {
     try {
-      LoadBoomParts(ModelFrom(links), 0.1);
+      LoadBoomParts(ModelFrom(links));
       ADD_FAILURE() << "no error for " << needle;
     } catch (const std::invalid_argument& e) {
       EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
@@ -124,7 +124,7 @@ struct Scene {
 Scene MakeScene(const aar_sim::BoomPose& pose) {
   const auto model = Boom();
   Scene s;
-  s.boom = std::make_unique<BoomOcclusion>(LoadBoomParts(model, 0.1));
+  s.boom = std::make_unique<BoomOcclusion>(LoadBoomParts(model));
   s.links = aar_geometry::ComputeLinkPoses(model, aar_sim::BoomJointPositions(pose));
   const auto rig =
       aar_sim::MakeStereoRig(aar_sim::CameraIntrinsics::FromHorizontalFov(1280, 960, 60.0), 0.5);
@@ -151,8 +151,12 @@ TEST(BoomOcclusion, RebuildsOnlyWhenSomethingMoves) {
   }
 }
 
-TEST(BoomOcclusion, RaysAndVolumesCullTheSamePoints) {
+int CheckRaysAndVolumesAgree(bool cull_behind_boom) {
   Scene s = MakeScene(aar_sim::DefaultBoomPose());
+  BoomOcclusionOptions options;
+  options.cull_behind_boom = cull_behind_boom;
+  s.boom = std::make_unique<BoomOcclusion>(LoadBoomParts(Boom()), options);
+  EXPECT_TRUE(s.boom->Update(s.links, s.eyes[0], s.eyes[1]));
   // Points on the boom's visual surface, and points scattered around and behind it.
   const auto model = Boom();
   const TriangleMesh visual =
@@ -178,8 +182,10 @@ TEST(BoomOcclusion, RaysAndVolumesCullTheSamePoints) {
     culled += volumes[i];
     if (i < on_boom) on_boom_culled += volumes[i];
   }
-  std::printf("[ cull ] %d of %zu points culled; BVH differs on %d, volumes on %d\n", culled,
-              points.size(), differ_bvh, differ_volumes);
+  std::printf(
+      "[ cull ] behind the boom %s: %d of %zu points culled; BVH differs on %d, volumes on "
+      "%d\n",
+      cull_behind_boom ? "too" : "not", culled, points.size(), differ_bvh, differ_volumes);
   // The visual boom lies inside the grown collision parts, bar a few samples of detail.
   EXPECT_GE(on_boom_culled, static_cast<int>(0.995 * on_boom));
   EXPECT_GT(culled, static_cast<int>(on_boom) + 500);  // and the cones reach past it
@@ -189,6 +195,13 @@ TEST(BoomOcclusion, RaysAndVolumesCullTheSamePoints) {
   EXPECT_LE(differ_volumes, 5);
 
   EXPECT_EQ(s.boom->Cull(points, CullMethod::kNone), std::vector<bool>(points.size(), false));
+  return culled;
+}
+
+TEST(BoomOcclusion, RaysAndVolumesCullTheSamePoints) {
+  const int behind = CheckRaysAndVolumesAgree(true);
+  const int up_to_far_side = CheckRaysAndVolumesAgree(false);
+  EXPECT_LT(up_to_far_side, behind - 200);  // the shadow beyond the boom is kept
 }
 
 TEST(DynamicReference, TheBoomHidesPartOfTheReceiverAtContact) {

@@ -115,14 +115,17 @@ std::vector<bool> VisibilityTester::Visible(const std::vector<Eigen::Vector3d>& 
   return visible;
 }
 
-std::vector<bool> VisibilityTester::RayHits(const Eigen::Vector3d& origin,
-                                            const std::vector<Eigen::Vector3d>& points) const {
-  std::vector<bool> hit(points.size(), false);
+std::vector<bool> VisibilityTester::RaysHit(const std::vector<Eigen::Vector3d>& origins,
+                                            const std::vector<Eigen::Vector3d>& directions) const {
+  if (origins.size() != directions.size())
+    throw std::invalid_argument("RaysHit: one direction per origin needed");
+  std::vector<bool> hit(origins.size(), false);
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
-  for (size_t i = 0; i < points.size(); ++i) {
-    const Eigen::Vector3d d = (points[i] - origin).normalized();
-    if (!d.allFinite()) continue;
+  for (size_t i = 0; i < origins.size(); ++i) {
+    const Eigen::Vector3d& origin = origins[i];
+    const Eigen::Vector3d& d = directions[i];
+    if (!origin.allFinite() || !d.allFinite()) continue;
     RTCRay ray{};
     ray.org_x = static_cast<float>(origin.x());
     ray.org_y = static_cast<float>(origin.y());

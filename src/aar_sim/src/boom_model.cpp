@@ -36,10 +36,17 @@ std::string Fmt(double v) {
   return s.str();
 }
 
+std::string Prefixed(std::string geometry, const std::string& prefix) {
+  const std::string key = "{prefix}";
+  const size_t at = geometry.find(key);
+  if (at != std::string::npos) geometry.replace(at, key.size(), prefix);
+  return geometry;
+}
+
 std::vector<Part> CollisionParts() {
   const double half_pi = M_PI / 2.0;
   const double v = DegToRad(kRuddevatorDihedral);
-  const double span = 2.0;
+
   return {
       {"pivot_fairing", "boom", "<box size=\"1.2 0.9 0.6\"/>", -0.4, 0.0, 0.15, 0, 0, 0},
       {"tube_forward", "boom", "<cylinder radius=\"0.30\" length=\"2.5\"/>", -1.25, 0, 0, 0,
@@ -50,10 +57,12 @@ std::vector<Part> CollisionParts() {
       {"boom_pod", "boom", "<box size=\"0.8 0.3 0.2\"/>", -2.2, 0, -0.38, 0, 0, 0},
       {"ruddevator_collar", "boom", "<cylinder radius=\"0.33\" length=\"0.8\"/>", -kRuddevatorX, 0,
        0, 0, half_pi, 0},
-      {"left_ruddevator", "boom", "<box size=\"1.1 2.0 0.08\"/>", -kRuddevatorX - 0.1,
-       0.5 * span * std::cos(v), 0.5 * span * std::sin(v), v, 0, 0},
-      {"right_ruddevator", "boom", "<box size=\"1.1 2.0 0.08\"/>", -kRuddevatorX - 0.1,
-       -0.5 * span * std::cos(v), 0.5 * span * std::sin(v), -v, 0, 0},
+      // Tapered hulls around the visual ruddevators (MakeRuddevatorCollisionMesh); the right
+      // one mirrored. A box would stand well clear of the taper and hide receiver it does not.
+      {"left_ruddevator", "boom", "<mesh filename=\"{prefix}ruddevator_collision.obj\"/>", 0, 0, 0,
+       0, 0, 0},
+      {"right_ruddevator", "boom",
+       "<mesh filename=\"{prefix}ruddevator_collision.obj\" scale=\"1 -1 1\"/>", 0, 0, 0, 0, 0, 0},
       {"telescope_tube", "telescope", "<cylinder radius=\"0.17\" length=\"3.0\"/>", -1.5, 0, 0, 0,
        half_pi, 0},
       {"nozzle_collar", "telescope", "<cylinder radius=\"0.22\" length=\"0.3\"/>", -3.15, 0, 0, 0,
@@ -72,13 +81,15 @@ void AppendTube(TriangleMesh& mesh, const std::string& part, double x0, double x
   AppendLoft(mesh, part, rings, caps, caps);
 }
 
-void AppendRuddevator(TriangleMesh& mesh, const std::string& part, double side) {
+// A straight loft of NACA 0010 sections from the root (0.25 m out along the V, chord 1.3 m) to
+// the tip (2.25 m, chord 0.8 m), through `stations` + 1 sections.
+void AppendRuddevator(TriangleMesh& mesh, const std::string& part, double side, int stations = 4) {
   const double v = DegToRad(kRuddevatorDihedral);
   const Eigen::Vector3d out(0.0, side * std::cos(v), std::sin(v));
   const Eigen::Vector3d thickness = Eigen::Vector3d::UnitX().cross(out).normalized();
   std::vector<Ring> rings;
-  for (int i = 0; i <= 4; ++i) {
-    const double eta = i / 4.0;
+  for (int i = 0; i <= stations; ++i) {
+    const double eta = static_cast<double>(i) / stations;
     const double chord = 1.3 - 0.5 * eta;
     const Eigen::Vector3d le(-kRuddevatorX + 0.45 - 0.3 * eta, 0, 0);
     Ring ring;
@@ -92,6 +103,14 @@ void AppendRuddevator(TriangleMesh& mesh, const std::string& part, double side) 
 }
 
 }  // namespace
+
+TriangleMesh MakeRuddevatorCollisionMesh() {
+  // Root and tip sections are similar and parallel, so the loft between just those two is
+  // their convex hull (each side quad joins parallel edges) and holds the visual surface.
+  TriangleMesh mesh;
+  AppendRuddevator(mesh, "left_ruddevator", 1.0, 1);
+  return mesh;
+}
 
 BoomPose DefaultBoomPose() { return BoomPose{DegToRad(30.0), 0.0, 0.5}; }
 
@@ -138,7 +157,7 @@ std::string MakeBoomUrdf(const BoomModelOptions& options, const std::string& pre
         << "      <origin xyz=\"" << Fmt(part.x) << " " << Fmt(part.y) << " " << Fmt(part.z)
         << "\" rpy=\"" << Fmt(part.roll) << " " << Fmt(part.pitch) << " " << Fmt(part.yaw)
         << "\"/>\n"
-        << "      <geometry>" << part.geometry << "</geometry>\n"
+        << "      <geometry>" << Prefixed(part.geometry, prefix) << "</geometry>\n"
         << "    </collision>\n";
     }
     u << "  </link>\n";

@@ -121,8 +121,8 @@ TEST(GeneratedFiles, CommittedFilesMatchTheGenerator) {
     s << in.rdbuf();
     return s.str();
   };
-  for (const char* name :
-       {"receiver.obj", "boom.urdf", "boom_visual.obj", "telescope_visual.obj"}) {
+  for (const char* name : {"receiver.obj", "boom.urdf", "boom_visual.obj", "telescope_visual.obj",
+                           "ruddevator_collision.obj"}) {
     EXPECT_EQ(read(tmp + "/" + name), read(kModels + "/" + name))
         << name << " is stale: run generate_models";
   }

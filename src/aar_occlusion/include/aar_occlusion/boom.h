@@ -24,15 +24,26 @@ struct BoomPart {
   Eigen::Isometry3d T_link_part = Eigen::Isometry3d::Identity();
   aar_geometry::TriangleMesh mesh;
   aar_geometry::TriangleAdjacency adjacency;
-  aar_geometry::TriangleMesh inflated;  // every face pushed out by the cull margin
-  aar_geometry::TriangleAdjacency inflated_adjacency;
+  aar_geometry::TriangleMesh grown;  // every face pushed out by the cull margin
+  aar_geometry::TriangleAdjacency grown_adjacency;
+  aar_geometry::TriangleMesh outline;  // pushed out by the silhouette margin
+  aar_geometry::TriangleAdjacency outline_adjacency;
 };
 
-// Every collision element of the model as a BoomPart, grown by `cull_margin` [m] for culling.
+struct BoomPartsOptions {
+  double cull_margin = 0.10;  // [m] a point this close to the boom is boom (thesis: 10 cm)
+  // [m] a point on a camera ray through the boom's outline grown by this is boom at any depth:
+  // stereo depth on the boom is unreliable (its near end is closer than the disparity search
+  // reaches), and the cameras cannot see anything behind the boom.
+  double silhouette_margin = 0.02;
+};
+
+// Every collision element of the model as a BoomPart, grown by both margins for culling.
 // Throws std::invalid_argument naming the link: a link with visual geometry but no collision
 // geometry (it would hide the receiver and never be culled), a part that is open, inconsistently
 // wound or not convex, or a model without any collision geometry.
-std::vector<BoomPart> LoadBoomParts(const aar_geometry::RobotModel& model, double cull_margin);
+std::vector<BoomPart> LoadBoomParts(const aar_geometry::RobotModel& model,
+                                    const BoomPartsOptions& options = {});
 
 // A closed convex mesh with every face plane moved out by `margin` [m] (the thesis's boom
 // "extruded equally in all directions"): each vertex moves to the least-squares meeting point of
@@ -43,15 +54,23 @@ aar_geometry::TriangleMesh Inflate(const aar_geometry::TriangleMesh& convex, dou
 // its pixel rays).
 enum class CullMethod {
   kNone,
-  kRaysBrute,  // thesis 3.7: ray from the eye through the point against every inflated triangle
+  kRaysBrute,  // thesis 3.7: rays against every triangle of the grown boom
   kRaysBvh,    // the same rays through an Embree BVH
-  kVolumes,    // point inclusion in the inflated parts' light and shadow volumes (the default)
+  kVolumes,    // the same sets by point inclusion in planes: the fast default
 };
 CullMethod ParseCullMethod(const std::string& name);  // none|rays_brute|rays_bvh|volumes
 std::string ToString(CullMethod method);
 
 struct BoomOcclusionOptions {
   double rebuild_tolerance = 1e-6;  // [m] link or eye motion that rebuilds the volumes
+                                    // Off (default), a point is boom when it lies in front of the
+                                    // far side of the boom grown by
+  // the cull margin (in its light volume or inside it), or anywhere on a ray through the
+  // outline grown by the silhouette margin: receiver points seen just past the boom's edge stay.
+  // On, anything on a ray through the boom grown by the cull margin is boom, in front or behind
+  // (its light and shadow volumes): the thesis's ray test, which also removes the receiver seen
+  // within the margin's shadow.
+  bool cull_behind_boom = false;
 };
 
 // The boom's shadow volumes for two eyes and its cull volumes for the left eye, all in the tanker
@@ -84,12 +103,17 @@ class BoomOcclusion {
   const PartView& view(int eye, size_t part) const { return views_[eye][part]; }  // part frame
   const std::vector<ConvexVolume>& shadows(int eye) const { return shadows_[eye]; }
   const std::vector<ConvexVolume>& cull_volumes() const { return cull_; }
-  const aar_geometry::TriangleMesh& inflated_boom() const { return inflated_boom_; }  // tanker
 
  private:
   bool Moved(const std::map<std::string, Eigen::Isometry3d>& T_tanker_links,
              const Eigen::Vector3d& left_eye, const Eigen::Vector3d& right_eye) const;
-  bool RayHitsBrute(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction) const;
+  // The posed grown (or outline) boom for the ray tests.
+  struct RayTarget {
+    std::vector<Eigen::Matrix3d> triangles;  // columns: v0, v1 - v0, v2 - v0
+    std::unique_ptr<aar_registration::VisibilityTester> bvh;
+    bool HitsBrute(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction) const;
+    void Build(const aar_geometry::TriangleMesh& mesh);
+  };
 
   std::vector<BoomPart> parts_;
   BoomOcclusionOptions options_;
@@ -100,9 +124,7 @@ class BoomOcclusion {
   std::vector<PartView> views_[2];
   std::vector<ConvexVolume> shadows_[2];
   std::vector<ConvexVolume> cull_;
-  aar_geometry::TriangleMesh inflated_boom_;
-  std::vector<Eigen::Matrix3d> brute_triangles_;  // columns: v0, v1 - v0, v2 - v0
-  std::unique_ptr<aar_registration::VisibilityTester> bvh_;
+  RayTarget grown_, outline_;
 };
 
 }  // namespace aar_occlusion

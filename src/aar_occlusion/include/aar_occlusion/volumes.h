@@ -47,11 +47,12 @@ struct PartView {
   ConvexVolume light;   // cone + in front of every facing triangle's plane: between eye and part
 };
 
-// Throws std::invalid_argument unless `mesh` (welded) is closed, consistently wound and convex,
-// naming `part`; the eye must be outside the part.
+// Throws std::invalid_argument unless `mesh` (welded) is closed, consistently wound and convex
+// (checked when `validate`; callers that validated the part once, as LoadBoomParts does, skip
+// the O(triangles x vertices) check per frame), naming `part`; the eye must be outside the part.
 PartView ViewPart(const aar_geometry::TriangleMesh& mesh,
                   const aar_geometry::TriangleAdjacency& adjacency, const Eigen::Vector3d& eye,
-                  const std::string& part = "part");
+                  const std::string& part = "part", bool validate = true);
 
 // The shadow volume as triangles for display: the camera-facing triangles (the cap) and each
 // silhouette edge extruded `length` [m] away from the eye. In the part's frame.

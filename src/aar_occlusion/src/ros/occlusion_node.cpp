@@ -20,8 +20,11 @@ OcclusionNodeOptions LoadOcclusionNodeOptions(const ros::NodeHandle& nh) {
   OcclusionNodeOptions o;
   aar_registration::ParamReader params(nh);
   o.cull = ParseCullMethod(params.Get<std::string>("cull", ToString(o.cull)));
-  o.cull_margin = params.Get("cull_margin", o.cull_margin);
-  if (!(o.cull_margin >= 0.0)) throw std::invalid_argument("~cull_margin must be >= 0");
+  o.parts.cull_margin = params.Get("cull_margin", o.parts.cull_margin);
+  o.parts.silhouette_margin = params.Get("silhouette_margin", o.parts.silhouette_margin);
+  if (!(o.parts.cull_margin >= 0.0) || !(o.parts.silhouette_margin >= 0.0))
+    throw std::invalid_argument("~cull_margin and ~silhouette_margin must be >= 0");
+  o.boom.cull_behind_boom = params.Get("cull_behind_boom", o.boom.cull_behind_boom);
   o.publish_reference = params.Get("publish_reference", o.publish_reference);
   o.robot_description = params.Get("robot_description", o.robot_description);
   o.receiver_mesh = params.Get<std::string>(
@@ -52,9 +55,11 @@ OcclusionNode::OcclusionNode(ros::NodeHandle nh, ros::NodeHandle private_nh,
     boom_error_ = "no boom URDF in parameter " + nh_.resolveName(options_.robot_description);
   } else {
     try {
-      boom_ = std::make_unique<BoomOcclusion>(LoadBoomParts(
-          aar_geometry::ParseRobotModel(urdf, nh_.resolveName(options_.robot_description), ""),
-          options_.cull_margin));
+      boom_ = std::make_unique<BoomOcclusion>(
+          LoadBoomParts(
+              aar_geometry::ParseRobotModel(urdf, nh_.resolveName(options_.robot_description), ""),
+              options_.parts),
+          options_.boom);
     } catch (const std::exception& e) {
       boom_error_ = e.what();
     }

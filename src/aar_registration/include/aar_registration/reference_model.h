@@ -48,10 +48,9 @@ class VisibilityTester {
                             const std::vector<Eigen::Vector3d>& normals, const Eigen::Vector3d& eye,
                             double tolerance) const;
 
-  // hit[i]: the ray from `origin` through points[i], on to infinity, hits the mesh (thesis 3.7's
-  // ray-collision test: a hit before or beyond the point both count).
-  std::vector<bool> RayHits(const Eigen::Vector3d& origin,
-                            const std::vector<Eigen::Vector3d>& points) const;
+  // hit[i]: the ray from origins[i] along directions[i] (unit) hits the mesh.
+  std::vector<bool> RaysHit(const std::vector<Eigen::Vector3d>& origins,
+                            const std::vector<Eigen::Vector3d>& directions) const;
 
  private:
   struct Bvh;

@@ -33,6 +33,10 @@ std::string MakeBoomUrdf(const BoomModelOptions& options, const std::string& mes
 aar_geometry::TriangleMesh MakeBoomVisualMesh(const std::string& link,
                                               const BoomModelOptions& options);
 
+// The left ruddevator's convex collision hull in the boom frame (models/ruddevator_collision.obj;
+// the URDF mirrors it for the right one).
+aar_geometry::TriangleMesh MakeRuddevatorCollisionMesh();
+
 // Joint positions for aar_geometry::ComputeLinkPoses and joint_states.
 std::map<std::string, double> BoomJointPositions(const BoomPose& pose);
 

@@ -20,7 +20,8 @@ namespace aar_occlusion {
 
 struct OcclusionNodeOptions {
   CullMethod cull = CullMethod::kVolumes;  // how boom points leave the sensed cloud
-  double cull_margin = 0.10;               // [m] the boom grown by this for culling (thesis)
+  BoomPartsOptions parts;                  // the cull and silhouette margins
+  BoomOcclusionOptions boom;               // cull_behind_boom: the thesis's whole-ray test
   bool publish_reference = true;           // the dynamic reference model on aar/reference_cloud
   std::string robot_description = "robot_description";  // parameter holding the boom's URDF
   std::string receiver_mesh;                            // default: aar_sim's models/receiver.obj
