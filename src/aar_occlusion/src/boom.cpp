@@ -166,7 +166,8 @@ bool BoomOcclusion::Update(const std::map<std::string, Eigen::Isometry3d>& T_tan
   const Eigen::Vector3d eyes[2] = {left_eye, right_eye};
   std::vector<Eigen::Isometry3d> T_parts;
   std::vector<PartView> views[2];
-  std::vector<ConvexVolume> shadows[2], cull;
+  std::vector<ConvexVolume> shadows[2];
+  std::vector<CullVolume> cull;
   TriangleMesh grown, outline;
   for (const auto& part : parts_) {
     const Eigen::Isometry3d T = used.at(part.link) * part.T_link_part;
@@ -181,25 +182,29 @@ bool BoomOcclusion::Update(const std::map<std::string, Eigen::Isometry3d>& T_tan
     // Culling is from the left eye: stereo points lie on its pixel rays.
     const PartView near =
         ViewPart(part.grown, part.grown_adjacency, T_inv * eyes[0], name + "' (grown)", false);
-    ConvexVolume volume = near.cone;  // light volume, part and shadow: the whole ray
+    CullVolume volume;
+    volume.cone = near.cone.Transformed(T);  // light volume, part and shadow: the whole ray
     if (!options_.cull_behind_boom) {
       // Up to the far side: inside the planes of the triangles turned away from the eye (the eye
       // is inside them all, and a ray leaves the part through one of them).
       for (size_t t = 0; t < part.grown.triangles.size(); ++t) {
         if (near.facing[t]) continue;
         const Eigen::Vector3d n = part.grown.TriangleNormal(static_cast<int>(t));
-        volume.planes.push_back({n, n.dot(part.grown.vertices[part.grown.triangles[t][0]])});
+        volume.far_side.planes.push_back(
+            {n, n.dot(part.grown.vertices[part.grown.triangles[t][0]])});
       }
-      cull.push_back(ViewPart(part.outline, part.outline_adjacency, T_inv * eyes[0],
-                              name + "' (outline)", false)
-                         .cone.Transformed(T));
+      volume.far_side = volume.far_side.Transformed(T);
+      volume.outline = ViewPart(part.outline, part.outline_adjacency, T_inv * eyes[0],
+                                name + "' (outline)", false)
+                           .cone.Transformed(T);
     }
-    cull.push_back(volume.Transformed(T));
+    cull.push_back(std::move(volume));
     grown.Append(part.grown, T);
     outline.Append(part.outline, T);
   }
-  grown_.Build(grown);
-  outline_.Build(outline);
+  grown_boom_ = std::move(grown);
+  outline_boom_ = std::move(outline);
+  ray_targets_built_ = false;
   T_tanker_links_ = std::move(used);
   eyes_[0] = left_eye;
   eyes_[1] = right_eye;
@@ -211,6 +216,20 @@ bool BoomOcclusion::Update(const std::map<std::string, Eigen::Isometry3d>& T_tan
   cull_ = std::move(cull);
   ready_ = true;
   return true;
+}
+
+bool BoomOcclusion::CullVolume::Contains(const Eigen::Vector3d& p) const {
+  // The outline's cone lies inside the grown part's: outside that, outside both.
+  if (!cone.Contains(p)) return false;
+  if (far_side.planes.empty()) return true;  // the whole ray
+  return far_side.Contains(p) || outline.Contains(p);
+}
+
+void BoomOcclusion::BuildRayTargets() const {
+  if (ray_targets_built_) return;
+  grown_.Build(grown_boom_);
+  outline_.Build(outline_boom_);
+  ray_targets_built_ = true;
 }
 
 void BoomOcclusion::RayTarget::Build(const TriangleMesh& mesh) {
@@ -249,6 +268,7 @@ std::vector<bool> BoomOcclusion::Cull(const std::vector<Eigen::Vector3d>& points
   if (!ready_) throw std::logic_error("BoomOcclusion::Cull before a successful Update");
   std::vector<bool> boom(points.size(), false);
   const bool behind = options_.cull_behind_boom;
+  if (method == CullMethod::kRaysBrute || method == CullMethod::kRaysBvh) BuildRayTargets();
   std::vector<Eigen::Vector3d> directions(points.size());
   for (size_t i = 0; i < points.size(); ++i) directions[i] = (points[i] - eyes_[0]).normalized();
   // Rays: from the eye through the point against the grown boom (thesis), or else from the point

@@ -41,24 +41,30 @@ DynamicReferenceResult DynamicReference::Build(const Eigen::Isometry3d& T_tanker
   for (int e = 0; e < 2 && !moved; ++e)
     moved = (eyes[e] - shelled_eyes_[e]).norm() > options_.reshell_distance;
   if (moved) {
+    std::vector<bool> seen[2];
     for (int e = 0; e < 2; ++e) {
-      self_visible_[e] =
+      seen[e] =
           receiver_->Visible(dense_.points, dense_.normals, eyes[e], options_.visibility_tolerance);
       shelled_eyes_[e] = eyes[e];
     }
+    std::vector<bool> keep(dense_.size(), false);
+    for (int e = 0; e < 2; ++e) self_visible_[e].clear();
+    for (size_t i = 0; i < dense_.size(); ++i) {
+      keep[i] = seen[0][i] || seen[1][i];
+      if (!keep[i]) continue;
+      for (int e = 0; e < 2; ++e) self_visible_[e].push_back(seen[e][i]);
+    }
+    shell_ = dense_.Subset(keep);  // what some eye sees past the receiver itself
     shelled_ = true;
     result.reshelled = true;
   }
 
-  std::vector<bool> keep(dense_.size(), false);
-  for (size_t i = 0; i < dense_.size(); ++i) keep[i] = self_visible_[0][i] || self_visible_[1][i];
-  result.cloud = dense_.Subset(keep);
-  result.classes.reserve(result.cloud.size());
-  for (size_t i = 0; i < dense_.size(); ++i) {
-    if (!keep[i]) continue;
+  result.cloud = shell_;
+  result.classes.reserve(shell_.size());
+  for (size_t i = 0; i < shell_.size(); ++i) {
     bool seen[2] = {self_visible_[0][i], self_visible_[1][i]};
-    if (boom != nullptr && (seen[0] || seen[1])) {
-      const Eigen::Vector3d p = T_tanker_receiver * dense_.points[i];
+    if (boom != nullptr) {
+      const Eigen::Vector3d p = T_tanker_receiver * shell_.points[i];
       for (int e = 0; e < 2; ++e) seen[e] = seen[e] && !boom->Hidden(p, e);
     }
     const Visibility v = seen[0] && seen[1] ? Visibility::kBoth

@@ -1,5 +1,6 @@
 #include "aar_occlusion/volumes.h"
 
+#include <algorithm>
 #include <stdexcept>
 
 namespace aar_occlusion {
@@ -64,6 +65,22 @@ PartView ViewPart(const aar_geometry::TriangleMesh& mesh,
       view.cone.planes.push_back(side);
     }
   }
+  // Long silhouette edges first: their planes reject most outside points at the first test.
+  std::vector<size_t> order(view.silhouette.size());
+  for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+  auto length = [&](size_t i) {
+    return (mesh.vertices[view.silhouette[i].from] - mesh.vertices[view.silhouette[i].to]).norm();
+  };
+  std::stable_sort(order.begin(), order.end(),
+                   [&](size_t a, size_t b) { return length(a) > length(b); });
+  std::vector<Plane> sorted;
+  std::vector<SilhouetteEdge> edges;
+  for (const size_t i : order) {
+    sorted.push_back(view.cone.planes[i]);
+    edges.push_back(view.silhouette[i]);
+  }
+  view.cone.planes = std::move(sorted);
+  view.silhouette = std::move(edges);
   view.shadow = view.cone;
   view.light = view.cone;
   for (const auto& p : facing_planes) {

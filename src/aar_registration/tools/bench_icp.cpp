@@ -12,6 +12,7 @@
 #include <pcl/registration/icp.h>
 
 #include <aar_geometry/pose_error.h>
+#include <aar_geometry/timing.h>
 #include <aar_sim/boom_model.h>
 #include <aar_sim/world.h>
 #include <aar_stereo/stereo.h>
@@ -33,18 +34,6 @@ Cloud::Ptr ToPcl(const std::vector<Eigen::Vector3d>& points) {
   Cloud::Ptr cloud(new Cloud);
   for (const auto& p : points) cloud->push_back(pcl::PointXYZ(p.x(), p.y(), p.z()));
   return cloud;
-}
-
-template <typename F>
-double MedianMs(int repeats, F&& f) {
-  std::vector<double> ms;
-  for (int i = 0; i < repeats; ++i) {
-    const auto t0 = Clock::now();
-    f();
-    ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
-  }
-  std::nth_element(ms.begin(), ms.begin() + ms.size() / 2, ms.end());
-  return ms[ms.size() / 2];
 }
 
 void PrintError(const Eigen::Isometry3d& truth, const Eigen::Isometry3d& estimate) {
@@ -120,13 +109,14 @@ int main(int argc, char** argv) {
           aar_registration::CentroidSeed(sensed, reference.points);  // T_tanker_receiver
 
       aar_registration::RegistrationResult r;
-      const double ours_ms = MedianMs(repeats, [&] { r = ours.Align(sensed, seed.inverse()); });
+      const double ours_ms =
+          aar_geometry::MedianMs(repeats, [&] { r = ours.Align(sensed, seed.inverse()); });
       std::printf(" %9.2f %5d", ours_ms, r.iterations);
       PrintError(row.T_tanker_receiver(), r.T_target_source.inverse());
 
       Cloud aligned;
       const Cloud::Ptr source = ToPcl(sensed);
-      const double pcl_ms = MedianMs(repeats, [&] {
+      const double pcl_ms = aar_geometry::MedianMs(repeats, [&] {
         pcl_icp.setInputSource(source);
         pcl_icp.align(aligned, seed.inverse().matrix().cast<float>());
       });

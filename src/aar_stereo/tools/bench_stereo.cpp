@@ -14,6 +14,7 @@
 #include <string>
 
 #include <aar_geometry/robot_model.h>
+#include <aar_geometry/timing.h>
 #include <aar_sim/boom_model.h>
 #include <aar_sim/world.h>
 #include <image_geometry/stereo_camera_model.h>
@@ -26,18 +27,6 @@
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-template <typename F>
-double MedianMs(int repeats, F&& f) {
-  std::vector<double> ms;
-  for (int i = 0; i < repeats; ++i) {
-    const auto t0 = Clock::now();
-    f();
-    ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
-  }
-  std::nth_element(ms.begin(), ms.begin() + ms.size() / 2, ms.end());
-  return ms[ms.size() / 2];
-}
 
 sensor_msgs::CameraInfo Info(const aar_sim::CameraIntrinsics& k, double Tx) {
   sensor_msgs::CameraInfo info;
@@ -129,8 +118,8 @@ int main(int argc, char** argv) {
 
       const aar_stereo::StereoResult result = ours.Process(left, right, g);
       const Counts counts = Count(result.cloud, f.left.label);
-      const double ours_ms = MedianMs(repeats, [&] { ours.Process(left, right, g); });
-      const double sip_ms = MedianMs(repeats, [&] {
+      const double ours_ms = aar_geometry::MedianMs(repeats, [&] { ours.Process(left, right, g); });
+      const double sip_ms = aar_geometry::MedianMs(repeats, [&] {
         stereo_msgs::DisparityImage disparity;
         sensor_msgs::PointCloud2 points;
         sip.processDisparity(left, right, model, disparity);
@@ -149,7 +138,8 @@ int main(int argc, char** argv) {
                                                 aar_geometry::GeometryKind::kCollision);
       for (const auto& v : boom.vertices) predicted.push_back(T_optical_tanker * v);
       const cv::Rect roi = aar_stereo::ProjectedRoi(predicted, g, 16);
-      const double roi_ms = MedianMs(repeats, [&] { ours.Process(left, right, g, roi); });
+      const double roi_ms =
+          aar_geometry::MedianMs(repeats, [&] { ours.Process(left, right, g, roi); });
       const Counts full_all = Count(ours_all.Process(left, right, g).cloud, f.left.label);
       const Counts roi_all = Count(ours_all.Process(left, right, g, roi).cloud, f.left.label);
       const double area = static_cast<double>(roi.area()) / (k.width * k.height);

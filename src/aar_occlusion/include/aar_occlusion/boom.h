@@ -102,7 +102,13 @@ class BoomOcclusion {
   const Eigen::Vector3d& eye(int e) const { return eyes_[e]; }
   const PartView& view(int eye, size_t part) const { return views_[eye][part]; }  // part frame
   const std::vector<ConvexVolume>& shadows(int eye) const { return shadows_[eye]; }
-  const std::vector<ConvexVolume>& cull_volumes() const { return cull_; }
+  // Per part, in the tanker frame: the grown part's view cone from the left eye, the planes
+  // that cut it at the far side (empty with cull_behind_boom), and the outline's cone.
+  struct CullVolume {
+    ConvexVolume cone, far_side, outline;
+    bool Contains(const Eigen::Vector3d& p) const;
+  };
+  const std::vector<CullVolume>& cull_volumes() const { return cull_; }
 
  private:
   bool Moved(const std::map<std::string, Eigen::Isometry3d>& T_tanker_links,
@@ -114,6 +120,7 @@ class BoomOcclusion {
     bool HitsBrute(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction) const;
     void Build(const aar_geometry::TriangleMesh& mesh);
   };
+  void BuildRayTargets() const;  // on first use: only the ray methods need them
 
   std::vector<BoomPart> parts_;
   BoomOcclusionOptions options_;
@@ -123,8 +130,10 @@ class BoomOcclusion {
   std::vector<Eigen::Isometry3d> T_tanker_parts_;
   std::vector<PartView> views_[2];
   std::vector<ConvexVolume> shadows_[2];
-  std::vector<ConvexVolume> cull_;
-  RayTarget grown_, outline_;
+  std::vector<CullVolume> cull_;
+  mutable RayTarget grown_, outline_;
+  mutable bool ray_targets_built_ = false;
+  aar_geometry::TriangleMesh grown_boom_, outline_boom_;  // tanker frame
 };
 
 }  // namespace aar_occlusion

@@ -55,8 +55,9 @@ class DynamicReference {
   DynamicReferenceOptions options_;
   std::unique_ptr<aar_registration::VisibilityTester> receiver_;
   bool shelled_ = false;
-  Eigen::Vector3d shelled_eyes_[2];  // receiver frame
-  std::vector<bool> self_visible_[2];
+  Eigen::Vector3d shelled_eyes_[2];         // receiver frame
+  aar_registration::ReferenceCloud shell_;  // samples some eye sees past the receiver itself
+  std::vector<bool> self_visible_[2];       // per point of shell_
 };
 
 }  // namespace aar_occlusion

@@ -80,6 +80,9 @@ OcclusionNode::OcclusionNode(ros::NodeHandle nh, ros::NodeHandle private_nh,
   markers_pub_ = nh_.advertise<visualization_msgs::MarkerArray>("aar/shadow_volumes", 2, true);
   diagnostics_.setHardwareID("boom occlusion");
   diagnostics_.add("occlusion", this, &OcclusionNode::Diagnose);
+  // Wall time: simulated time stands still in lockstep, and the status matters most then.
+  diagnostics_timer_ = nh_.createWallTimer(
+      ros::WallDuration(1.0), [this](const ros::WallTimerEvent&) { diagnostics_.force_update(); });
   cloud_sub_ = nh_.subscribe("points", 5, &OcclusionNode::OnCloud, this);
   ROS_INFO_STREAM("occlusion: culling " << ToString(options_.cull) << ", "
                                         << (boom_ ? boom_->parts().size() : 0) << " boom parts, "
@@ -123,7 +126,11 @@ void OcclusionNode::OnCloud(const sensor_msgs::PointCloud2::ConstPtr& msg) {
 
     // Place the boom; without it this frame passes through unculled.
     bool placed = false;
-    if (!boom_) {
+    const bool needed =
+        options_.cull != CullMethod::kNone || reference_ || markers_pub_.getNumSubscribers() > 0;
+    if (!needed) {
+      // Nothing to do with the boom: the cloud passes through as configured.
+    } else if (!boom_) {
       error = boom_error_;
     } else {
       std::map<std::string, Eigen::Isometry3d> links;
@@ -200,7 +207,6 @@ void OcclusionNode::OnCloud(const sensor_msgs::PointCloud2::ConstPtr& msg) {
     last_ms_ =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   }
-  diagnostics_.update();
 }
 
 void OcclusionNode::ReportError(const std::string& what) {

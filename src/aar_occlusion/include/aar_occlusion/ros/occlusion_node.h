@@ -65,6 +65,7 @@ class OcclusionNode {
   ros::Publisher filtered_pub_, boom_pub_, reference_pub_, markers_pub_;
   ros::Subscriber cloud_sub_;
   diagnostic_updater::Updater diagnostics_;
+  ros::WallTimer diagnostics_timer_;
 
   std::mutex mutex_;
   std::unique_ptr<BoomOcclusion> boom_;  // null when the boom model was refused
