@@ -23,6 +23,7 @@ int main(int argc, char** argv) {
   const std::string baseline = argc > 3 ? argv[3] : "";
   try {
     std::map<std::string, std::map<std::string, aar_eval::RegionStats>> stats;
+    std::map<std::string, std::vector<aar_eval::FrameRecord>> records;
     std::vector<std::string> done;
     for (const auto& e : experiments) {
       const std::string csv = dir + "/" + e + "/frames.csv";
@@ -30,7 +31,8 @@ int main(int argc, char** argv) {
         std::cerr << "make_report: " << csv << " is missing: experiment '" << e << "' left out\n";
         continue;
       }
-      stats[e] = aar_eval::ComputeRegionStats(aar_eval::ReadFrameCsv(csv));
+      records[e] = aar_eval::ReadFrameCsv(csv);
+      stats[e] = aar_eval::ComputeRegionStats(records[e]);
       done.push_back(e);
     }
     if (done.empty()) throw std::runtime_error("no experiment has results in " + dir);
@@ -65,6 +67,24 @@ int main(int argc, char** argv) {
           out << "; over different frames: " << e << " estimated " << a.estimated << " of "
               << a.frames << ", " << baseline << " " << b.estimated << " of " << b.frames
               << " (the rest are misses, in no average)";
+          // The same comparison on the frames both estimated (matched by path time).
+          std::map<double, const aar_eval::FrameRecord*> theirs;
+          for (const auto& f : records[baseline]) {
+            if (f.estimated) theirs[f.t] = &f;
+          }
+          std::vector<aar_eval::FrameRecord> mine_common, theirs_common;
+          for (const auto& f : records[e]) {
+            const auto it = theirs.find(f.t);
+            if (!f.estimated || it == theirs.end()) continue;
+            mine_common.push_back(f);
+            theirs_common.push_back(*it->second);
+          }
+          const auto m = aar_eval::ComputeRegionStats(mine_common);
+          const auto t = aar_eval::ComputeRegionStats(theirs_common);
+          if (m.count("all") && t.count("all")) {
+            out << "; on the " << mine_common.size() << " frames both estimated: "
+                << aar_eval::AverageImprovement(m.at("all"), t.at("all")) << "%";
+          }
         }
         out << "\n";
       }

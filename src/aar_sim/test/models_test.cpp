@@ -92,7 +92,8 @@ TEST(BoomModel, CollisionPartsAreClosedConvexAndAboutADozen) {
     const TriangleMesh p =
         aar_geometry::WeldVertices(aar_geometry::SelectParts(collision, {part})).mesh;
     EXPECT_TRUE(aar_geometry::BuildAdjacency(p).closed()) << part;
-    EXPECT_TRUE(aar_geometry::IsConvex(p)) << part;
+    // 0.1 mm: the OBJ file rounds the ruddevator hull to 6 decimals, tilting thin facets.
+    EXPECT_TRUE(aar_geometry::IsConvex(p, 1e-4)) << part;
   }
   const auto* pitch = boom.FindJoint("boom_pitch");
   ASSERT_NE(pitch, nullptr);
