@@ -3,10 +3,12 @@
 // baseline, the headline average improvement, misses, and the plots and run details if present.
 //   make_report DIR EXPERIMENT[,EXPERIMENT...] [BASELINE]
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
 #include <iostream>
+#include <map>
 #include <sstream>
 
 #include "aar_eval/tables.h"
@@ -63,22 +65,25 @@ int main(int argc, char** argv) {
         out << "- " << e << ": average improvement over " << baseline << ": " << std::fixed
             << std::setprecision(1) << aar_eval::AverageImprovement(a, b) << "%"
             << (e == "dynamic" ? " (thesis: 74.1%)" : "");
-        if (a.estimated != b.estimated) {  // averages over different frames: say so
+        // Frames by index at 1 ms: path times come from a CSV.
+        auto key = [](double t) { return std::llround(t * 1000.0); };
+        std::map<long long, const aar_eval::FrameRecord*> theirs;
+        for (const auto& f : records[baseline]) {
+          if (f.estimated) theirs[key(f.t)] = &f;
+        }
+        std::vector<aar_eval::FrameRecord> mine_common, theirs_common;
+        for (const auto& f : records[e]) {
+          const auto it = theirs.find(key(f.t));
+          if (!f.estimated || it == theirs.end()) continue;
+          mine_common.push_back(f);
+          theirs_common.push_back(*it->second);
+        }
+        const bool same_frames = mine_common.size() == static_cast<size_t>(a.estimated) &&
+                                 mine_common.size() == static_cast<size_t>(b.estimated);
+        if (!same_frames) {  // averages over different frames: say so, and compare the common ones
           out << "; over different frames: " << e << " estimated " << a.estimated << " of "
               << a.frames << ", " << baseline << " " << b.estimated << " of " << b.frames
               << " (the rest are misses, in no average)";
-          // The same comparison on the frames both estimated (matched by path time).
-          std::map<double, const aar_eval::FrameRecord*> theirs;
-          for (const auto& f : records[baseline]) {
-            if (f.estimated) theirs[f.t] = &f;
-          }
-          std::vector<aar_eval::FrameRecord> mine_common, theirs_common;
-          for (const auto& f : records[e]) {
-            const auto it = theirs.find(f.t);
-            if (!f.estimated || it == theirs.end()) continue;
-            mine_common.push_back(f);
-            theirs_common.push_back(*it->second);
-          }
           const auto m = aar_eval::ComputeRegionStats(mine_common);
           const auto t = aar_eval::ComputeRegionStats(theirs_common);
           if (m.count("all") && t.count("all")) {

@@ -43,6 +43,12 @@ std::vector<BoomPart> LoadBoomParts(const aar_geometry::RobotModel& model,
     if (!(margin >= 0.0))
       throw std::invalid_argument("boom margins must be >= 0, not " + std::to_string(margin));
   }
+  // Culling by volumes tests the outline inside the grown boom's cone.
+  if (options.silhouette_margin > options.cull_margin) {
+    throw std::invalid_argument(
+        "the silhouette margin (" + std::to_string(options.silhouette_margin) +
+        " m) must not exceed the cull margin (" + std::to_string(options.cull_margin) + " m)");
+  }
   std::vector<BoomPart> parts;
   for (const auto& link : model.links) {
     if (link.collisions.empty() && !link.visuals.empty()) {
@@ -296,6 +302,7 @@ std::vector<bool> BoomOcclusion::Cull(const std::vector<Eigen::Vector3d>& points
     }
     case CullMethod::kVolumes:
       for (size_t i = 0; i < points.size(); ++i) {
+        if (!points[i].allFinite()) continue;  // as the rays: no direction, not boom
         for (const auto& v : cull_) {
           if (v.Contains(points[i])) {
             boom[i] = true;

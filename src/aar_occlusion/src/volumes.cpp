@@ -123,6 +123,10 @@ std::vector<Visibility> Classify(const std::vector<Eigen::Vector3d>& points,
   };
   std::vector<Visibility> out(points.size());
   for (size_t i = 0; i < points.size(); ++i) {
+    if (!points[i].allFinite()) {
+      out[i] = Visibility::kNeither;  // nowhere: seen by no camera
+      continue;
+    }
     const bool l = !hidden(points[i], left), r = !hidden(points[i], right);
     out[i] = l && r ? Visibility::kBoth
              : l    ? Visibility::kLeftOnly

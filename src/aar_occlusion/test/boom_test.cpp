@@ -60,12 +60,25 @@ TEST(Inflate, EveryFacePlaneMovesOutByTheMargin) {
 }
 
 TEST(BoomParts, TheShippedBoomHasTwelveClosedConvexParts) {
-  const auto parts = LoadBoomParts(Boom());
+  const BoomPartsOptions margins;
+  const auto parts = LoadBoomParts(Boom(), margins);
   EXPECT_EQ(parts.size(), 12u);
   for (const auto& p : parts) {
     EXPECT_TRUE(p.adjacency.closed()) << p.name;
     EXPECT_TRUE(p.grown_adjacency.closed()) << p.name;
+    // No spikes: a knife edge pushes its vertices out by margin / sin(half its angle); a box
+    // corner moves sqrt(3) x margin, the blunt ruddevator's trailing edge corners 1.82 x.
+    for (size_t v = 0; v < p.mesh.vertices.size(); ++v) {
+      EXPECT_LE((p.grown.vertices[v] - p.mesh.vertices[v]).norm(), 2.0 * margins.cull_margin)
+          << p.name << " vertex " << v;
+      EXPECT_LE((p.outline.vertices[v] - p.mesh.vertices[v]).norm(),
+                2.0 * margins.silhouette_margin)
+          << p.name << " vertex " << v;
+    }
   }
+  BoomPartsOptions inverted;
+  inverted.cull_margin = 0.01;  // the outline must lie inside the grown boom
+  EXPECT_THROW(LoadBoomParts(Boom(), inverted), std::invalid_argument);
 }
 
 // A URDF whose links are given as XML, meshes next to it.

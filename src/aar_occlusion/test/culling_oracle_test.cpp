@@ -15,7 +15,7 @@ namespace aar_occlusion {
 namespace {
 
 struct Counts {
-  int boom = 0, boom_culled = 0, receiver = 0, receiver_culled = 0;
+  int boom = 0, boom_culled = 0, receiver = 0, receiver_culled = 0, background = 0;
 };
 
 TEST(CullingOracle, RemovesBoomPointsAndKeepsReceiverPoints) {
@@ -40,7 +40,7 @@ TEST(CullingOracle, RemovesBoomPointsAndKeepsReceiverPoints) {
                                      {33.0 * M_PI / 180.0, -8.0 * M_PI / 180.0, 1.0}};
   Counts total[3];  // volumes, rays (BVH), thesis (whole ray, volumes)
   const char* names[3] = {"volumes", "rays_bvh", "volumes, whole ray (thesis)"};
-  for (const double t : {5.0, 20.0, 32.0, 40.0, 46.0, 50.0}) {
+  for (const double t : {0.5, 5.0, 20.0, 32.0, 40.0, 46.0, 50.0}) {
     for (const auto& pose : poses) {
       const auto row = path.At(t);
       const auto frame = world.Render(row, pose, static_cast<uint64_t>(t * 10), true);
@@ -72,12 +72,14 @@ TEST(CullingOracle, RemovesBoomPointsAndKeepsReceiverPoints) {
           frame_counts.boom++, frame_counts.boom_culled += culled[0][i];
         if (label == aar_sim::Label::kReceiver)
           frame_counts.receiver++, frame_counts.receiver_culled += culled[0][i];
+        if (label == aar_sim::Label::kBackground) frame_counts.background += !culled[0][i];
       }
       std::printf(
-          "[ frame ] t %.0f s range %.1f m boom pitch %.0f: boom %d/%d culled, receiver "
-          "%d/%d culled\n",
+          "[ frame ] t %.1f s range %.1f m boom pitch %.0f: boom %d/%d culled, receiver "
+          "%d/%d culled, %d background points kept\n",
           t, row.position_m.norm(), pose.pitch * 180 / M_PI, frame_counts.boom_culled,
-          frame_counts.boom, frame_counts.receiver_culled, frame_counts.receiver);
+          frame_counts.boom, frame_counts.receiver_culled, frame_counts.receiver,
+          frame_counts.background);
     }
   }
   for (int m = 0; m < 3; ++m) {

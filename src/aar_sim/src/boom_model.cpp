@@ -82,18 +82,29 @@ void AppendTube(TriangleMesh& mesh, const std::string& part, double x0, double x
 }
 
 // A straight loft of NACA 0010 sections from the root (0.25 m out along the V, chord 1.3 m) to
-// the tip (2.25 m, chord 0.8 m), through `stations` + 1 sections.
-void AppendRuddevator(TriangleMesh& mesh, const std::string& part, double side, int stations = 4) {
+// the tip (2.25 m, chord 0.8 m), through `stations` + 1 sections. `blunt` > 0 thickens each
+// section by blunt x chord-position on either side, which keeps it convex and holds the plain
+// section, and ends it in a flat trailing edge (blunt x chord thick on either side): a sharp edge
+// would make the grown collision part spike far past the margin.
+void AppendRuddevator(TriangleMesh& mesh, const std::string& part, double side, int stations = 4,
+                      double blunt = 0.0) {
   const double v = DegToRad(kRuddevatorDihedral);
   const Eigen::Vector3d out(0.0, side * std::cos(v), std::sin(v));
   const Eigen::Vector3d thickness = Eigen::Vector3d::UnitX().cross(out).normalized();
+  constexpr int kPoints = 12;  // per surface: kPoints + 1 upper (TE to LE), then the lower ones
   std::vector<Ring> rings;
   for (int i = 0; i <= stations; ++i) {
     const double eta = static_cast<double>(i) / stations;
     const double chord = 1.3 - 0.5 * eta;
     const Eigen::Vector3d le(-kRuddevatorX + 0.45 - 0.3 * eta, 0, 0);
+    std::vector<Eigen::Vector2d> section = AirfoilSection(chord, 0.10, kPoints);
+    if (blunt > 0.0) {
+      for (size_t k = 0; k < section.size(); ++k)
+        section[k].y() += (k <= kPoints ? 1.0 : -1.0) * blunt * section[k].x();
+      section.emplace_back(chord, -section.front().y());  // the lower trailing-edge corner
+    }
     Ring ring;
-    for (const auto& uv : AirfoilSection(chord, 0.10, 12)) {
+    for (const auto& uv : section) {
       ring.push_back(le + (0.25 + 2.0 * eta) * out + Eigen::Vector3d(-uv.x(), 0, 0) +
                      uv.y() * thickness);
     }
@@ -106,9 +117,10 @@ void AppendRuddevator(TriangleMesh& mesh, const std::string& part, double side, 
 
 TriangleMesh MakeRuddevatorCollisionMesh() {
   // Root and tip sections are similar and parallel, so the loft between just those two is
-  // their convex hull (each side quad joins parallel edges) and holds the visual surface.
+  // their convex hull (each side quad joins parallel edges). Thickened by 1 % of the chord at
+  // the trailing edge, it holds the visual surface and has no knife edge.
   TriangleMesh mesh;
-  AppendRuddevator(mesh, "left_ruddevator", 1.0, 1);
+  AppendRuddevator(mesh, "left_ruddevator", 1.0, 1, 0.01);
   return mesh;
 }
 

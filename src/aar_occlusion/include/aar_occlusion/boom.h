@@ -48,6 +48,8 @@ std::vector<BoomPart> LoadBoomParts(const aar_geometry::RobotModel& model,
 // A closed convex mesh with every face plane moved out by `margin` [m] (the thesis's boom
 // "extruded equally in all directions"): each vertex moves to the least-squares meeting point of
 // its faces' offset planes, exact where at most three distinct planes meet (boxes, cylinders).
+// Where two faces meet at a knife edge of angle 2a, that point lies margin / sin(a) out: parts
+// need blunt edges (the shipped boom's test bounds every vertex's move by 2 x margin).
 aar_geometry::TriangleMesh Inflate(const aar_geometry::TriangleMesh& convex, double margin);
 
 // How sensed points on the boom are found, always from the left camera (stereo points lie on
@@ -63,18 +65,18 @@ std::string ToString(CullMethod method);
 
 struct BoomOcclusionOptions {
   double rebuild_tolerance = 1e-6;  // [m] link or eye motion that rebuilds the volumes
-                                    // Off (default), a point is boom when it lies in front of the
-                                    // far side of the boom grown by
-  // the cull margin (in its light volume or inside it), or anywhere on a ray through the
-  // outline grown by the silhouette margin: receiver points seen just past the boom's edge stay.
-  // On, anything on a ray through the boom grown by the cull margin is boom, in front or behind
-  // (its light and shadow volumes): the thesis's ray test, which also removes the receiver seen
-  // within the margin's shadow.
+
+  // Off (default), a point is boom when it lies on a camera ray through the boom grown by the
+  // cull margin and not beyond that grown boom's far side, or anywhere on a ray through the
+  // outline grown by the silhouette margin: receiver seen just past the boom's edge stays. On,
+  // anything on a ray through the boom grown by the cull margin is boom, in front or behind
+  // (the thesis's ray test), which also removes the receiver seen within the margin's shadow.
   bool cull_behind_boom = false;
 };
 
 // The boom's shadow volumes for two eyes and its cull volumes for the left eye, all in the tanker
-// frame, rebuilt whenever a link or an eye moves (thesis 3.8, Eq. 4-6).
+// frame, rebuilt whenever a link or an eye moves (thesis 3.8, Eq. 4-6). Not thread-safe: one
+// caller at a time (the ray methods build their BVHs on first use).
 class BoomOcclusion {
  public:
   explicit BoomOcclusion(std::vector<BoomPart> parts, const BoomOcclusionOptions& options = {});

@@ -63,7 +63,8 @@ aar_geometry::TriangleMesh ShadowVolumeMesh(const aar_geometry::TriangleMesh& me
 // Per point, seen by each of two eyes through a set of occluders' shadow volumes.
 enum class Visibility : uint8_t { kBoth = 0, kLeftOnly = 1, kRightOnly = 2, kNeither = 3 };
 
-// A point is hidden from an eye when it lies inside any of that eye's shadow volumes.
+// A point is hidden from an eye when it lies inside any of that eye's shadow volumes; a
+// non-finite point is kNeither.
 std::vector<Visibility> Classify(const std::vector<Eigen::Vector3d>& points,
                                  const std::vector<ConvexVolume>& left_shadows,
                                  const std::vector<ConvexVolume>& right_shadows);

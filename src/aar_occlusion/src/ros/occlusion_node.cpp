@@ -1,5 +1,6 @@
 #include "aar_occlusion/ros/occlusion_node.h"
 
+#include <cctype>
 #include <chrono>
 
 #include <aar_geometry/load_error.h>
@@ -41,7 +42,9 @@ OcclusionNodeOptions LoadOcclusionNodeOptions(const ros::NodeHandle& nh) {
   o.tf_timeout = params.Get("tf_timeout", o.tf_timeout);
   o.estimate_max_age = params.Get("estimate_max_age", o.estimate_max_age);
   o.marker_length = params.Get("marker_length", o.marker_length);
-  params.Get("diagnostic_period", 1.0);  // diagnostic_updater's own
+  o.estimate_wait = params.Get("estimate_wait", o.estimate_wait);
+  o.diagnostic_period = params.Get("diagnostic_period", o.diagnostic_period);
+  if (!(o.diagnostic_period > 0.0)) throw std::invalid_argument("~diagnostic_period must be > 0");
   params.RejectUnknown();
   return o;
 }
@@ -90,7 +93,10 @@ OcclusionNode::OcclusionNode(ros::NodeHandle nh, ros::NodeHandle private_nh,
                                         << " reference samples");
 }
 
-OcclusionNode::~OcclusionNode() { cloud_sub_.shutdown(); }
+OcclusionNode::~OcclusionNode() {
+  diagnostics_timer_.stop();  // it reads members destroyed before it
+  cloud_sub_.shutdown();
+}
 
 std::optional<Eigen::Isometry3d> OcclusionNode::Lookup(const std::string& frame,
                                                        const ros::Time& stamp, std::string* error) {
@@ -105,7 +111,8 @@ std::optional<Eigen::Isometry3d> OcclusionNode::Lookup(const std::string& frame,
 void OcclusionNode::OnCloud(const sensor_msgs::PointCloud2::ConstPtr& msg) {
   const auto start = std::chrono::steady_clock::now();
   std::lock_guard<std::mutex> lock(mutex_);
-  std::string error;  // why this frame is not culled
+  std::string error;            // why this frame is not culled
+  std::string reference_error;  // why it has no reference
   sensor_msgs::PointCloud2 filtered = *msg, boom_points;
   boom_points.header = msg->header;
   boom_points.fields = msg->fields;
@@ -162,6 +169,10 @@ void OcclusionNode::OnCloud(const sensor_msgs::PointCloud2::ConstPtr& msg) {
     if (reference_) {
       // Predicted pose: the latest estimate, else the thesis seed (centroid, tanker orientation).
       std::optional<Eigen::Isometry3d> T_tanker_receiver;
+      if (previous_stamp_) {  // the estimate of the previous cloud, usually on its way
+        WaitForTransform(tf_buffer_, options_.tanker_frame, options_.receiver_frame,
+                         *previous_stamp_, options_.estimate_wait);
+      }
       if (tf_buffer_.canTransform(options_.tanker_frame, options_.receiver_frame, ros::Time(0))) {
         const auto latest = tf_buffer_.lookupTransform(options_.tanker_frame,
                                                        options_.receiver_frame, ros::Time(0));
@@ -172,10 +183,15 @@ void OcclusionNode::OnCloud(const sensor_msgs::PointCloud2::ConstPtr& msg) {
       if (!T_tanker_receiver && !kept_points.empty()) {
         T_tanker_receiver = aar_registration::CentroidSeed(kept_points, {Eigen::Vector3d::Zero()});
       }
-      if (T_tanker_receiver) {
+      try {
+        if (!T_tanker_receiver)
+          throw std::runtime_error("no predicted pose: no estimate, no points");
         reference = placed ? reference_->Build(*T_tanker_receiver, *boom_)
                            : reference_->Build(*T_tanker_receiver, T_left->translation(),
                                                T_right->translation());
+      } catch (const std::exception& e) {
+        reference_error = e.what();
+        reference = DynamicReferenceResult{};
       }
     }
     if (placed && markers_stale_ && markers_pub_.getNumSubscribers() > 0) {
@@ -191,8 +207,11 @@ void OcclusionNode::OnCloud(const sensor_msgs::PointCloud2::ConstPtr& msg) {
     }
   } catch (const std::exception& e) {
     error = e.what();
+    if (reference_) reference_error = "no reference without the cloud: " + error;
   }
   if (!error.empty()) ReportError("frame passes through unculled: " + error);
+  if (!reference_error.empty()) ReportError("empty reference for this frame: " + reference_error);
+  previous_stamp_ = msg->header.stamp;
 
   filtered_pub_.publish(filtered);
   boom_pub_.publish(boom_points);
@@ -202,6 +221,8 @@ void OcclusionNode::OnCloud(const sensor_msgs::PointCloud2::ConstPtr& msg) {
     ++frames_;
     unculled_frames_ += !error.empty();
     last_frame_error_ = error;
+    last_reference_error_ = reference_error;
+    reference_failures_ += !reference_error.empty();
     last_boom_points_ = boom_points.width;
     last_reference_both_ = reference.both;
     last_ms_ =
@@ -212,7 +233,11 @@ void OcclusionNode::OnCloud(const sensor_msgs::PointCloud2::ConstPtr& msg) {
 void OcclusionNode::ReportError(const std::string& what) {
   std::lock_guard<std::mutex> lock(report_mutex_);
   const ros::WallTime now = ros::WallTime::now();
-  ros::WallTime& last = last_reported_[what];
+  std::string key;  // numbers vary from frame to frame: throttle per kind of error
+  for (const char c : what) {
+    if (!std::isdigit(static_cast<unsigned char>(c))) key += c;
+  }
+  ros::WallTime& last = last_reported_[key];
   if (last.isZero() || now - last > ros::WallDuration(5.0)) {
     last = now;
     ROS_ERROR_STREAM("occlusion: " << what);
@@ -223,6 +248,7 @@ void OcclusionNode::Diagnose(diagnostic_updater::DiagnosticStatusWrapper& status
   std::lock_guard<std::mutex> lock(report_mutex_);
   status.add("frames", frames_);
   status.add("frames passed through unculled", unculled_frames_);
+  status.add("frames without a reference", reference_failures_);
   status.add("cull method", ToString(options_.cull));
   status.add("boom points removed (last frame)", last_boom_points_);
   status.add("reference points seen by both cameras (last frame)", last_reference_both_);
@@ -233,6 +259,9 @@ void OcclusionNode::Diagnose(diagnostic_updater::DiagnosticStatusWrapper& status
   } else if (!last_frame_error_.empty()) {
     status.summary(diagnostic_msgs::DiagnosticStatus::ERROR,
                    "last frame passed through unculled: " + last_frame_error_);
+  } else if (!last_reference_error_.empty()) {
+    status.summary(diagnostic_msgs::DiagnosticStatus::WARN,
+                   "last frame has no reference: " + last_reference_error_);
   } else {
     status.summary(diagnostic_msgs::DiagnosticStatus::OK, frames_ > 0 ? "culling" : "no input");
   }

@@ -33,6 +33,8 @@ size_t FieldSize(uint8_t datatype) {
 }
 
 void CheckLayout(const sensor_msgs::PointCloud2& msg) {
+  if (msg.is_bigendian)
+    throw std::invalid_argument("cloud is big-endian: only little-endian clouds are read");
   if (msg.row_step < static_cast<uint64_t>(msg.width) * msg.point_step ||
       msg.data.size() != static_cast<size_t>(msg.row_step) * msg.height) {
     throw std::invalid_argument("cloud is malformed: " + std::to_string(msg.data.size()) +

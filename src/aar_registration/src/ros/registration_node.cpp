@@ -3,6 +3,7 @@
 #include "aar_registration/ros/conversions.h"
 #include "aar_registration/ros/node_utils.h"
 
+#include <cctype>
 #include <chrono>
 #include <cstring>
 #include <set>
@@ -75,6 +76,7 @@ RegistrationNodeOptions LoadRegistrationNodeOptions(const ros::NodeHandle& nh) {
   o.left_camera_frame = params.Get("left_camera_frame", o.left_camera_frame);
   o.right_camera_frame = params.Get("right_camera_frame", o.right_camera_frame);
   o.tf_timeout = params.Get("tf_timeout", o.tf_timeout);
+  o.reference_timeout = params.Get("reference_timeout", o.reference_timeout);
 
   params.RejectUnknown();
   return o;
@@ -91,6 +93,11 @@ RegistrationNode::RegistrationNode(ros::NodeHandle nh, ros::NodeHandle,
     reference_filter_.subscribe(nh_, "aar/reference_cloud", 5);
     sync_ = std::make_unique<Sync>(points_filter_, reference_filter_, 10);
     sync_->registerCallback(&RegistrationNode::OnPair, this);
+    // A cloud whose reference never comes still gets an answer (an invalid estimate), so that
+    // lockstep moves on and the log says what is missing.
+    cloud_sub_ = nh_.subscribe("points", 5, &RegistrationNode::OnPointsSeen, this);
+    pending_timer_ =
+        nh_.createWallTimer(ros::WallDuration(0.1), &RegistrationNode::ExpirePending, this);
   } else {
     BuildStaticReference();
     cloud_sub_ = nh_.subscribe("points", 2, &RegistrationNode::OnCloud, this);
@@ -98,6 +105,7 @@ RegistrationNode::RegistrationNode(ros::NodeHandle nh, ros::NodeHandle,
 }
 
 RegistrationNode::~RegistrationNode() {
+  pending_timer_.stop();
   cloud_sub_.shutdown();
   points_filter_.unsubscribe();
   reference_filter_.unsubscribe();
@@ -164,8 +172,43 @@ void RegistrationNode::SetReference(const sensor_msgs::PointCloud2& msg) {
   reference_points_ = std::move(points);
 }
 
+void RegistrationNode::OnPointsSeen(const sensor_msgs::PointCloud2::ConstPtr& msg) {
+  std::lock_guard<std::mutex> lock(pending_mutex_);
+  if (!answered_.count(msg->header.stamp)) pending_[msg->header.stamp] = ros::WallTime::now();
+}
+
+void RegistrationNode::ExpirePending(const ros::WallTimerEvent&) {
+  std::vector<ros::Time> expired;
+  {
+    std::lock_guard<std::mutex> lock(pending_mutex_);
+    const ros::WallTime now = ros::WallTime::now();
+    for (auto it = pending_.begin(); it != pending_.end();) {
+      if ((now - it->second).toSec() > options_.reference_timeout) {
+        expired.push_back(it->first);
+        answered_.insert(it->first);
+        it = pending_.erase(it);
+      } else {
+        ++it;
+      }
+    }
+    while (answered_.size() > 100) answered_.erase(answered_.begin());
+  }
+  for (const ros::Time& stamp : expired) {
+    ReportError("no reference cloud with the points' stamp within " +
+                std::to_string(options_.reference_timeout) +
+                " s: is occlusion_node publishing aar/reference_cloud (publish_reference)?");
+    PublishNone(stamp, 0.0);
+  }
+}
+
 void RegistrationNode::OnPair(const sensor_msgs::PointCloud2::ConstPtr& points,
                               const sensor_msgs::PointCloud2::ConstPtr& reference) {
+  {
+    std::lock_guard<std::mutex> lock(pending_mutex_);
+    if (answered_.count(points->header.stamp)) return;  // already answered as expired
+    answered_.insert(points->header.stamp);
+    pending_.erase(points->header.stamp);
+  }
   std::lock_guard<std::mutex> lock(mutex_);
   try {
     SetReference(*reference);
@@ -180,7 +223,11 @@ void RegistrationNode::OnPair(const sensor_msgs::PointCloud2::ConstPtr& points,
 void RegistrationNode::ReportError(const std::string& what) {
   std::lock_guard<std::mutex> lock(report_mutex_);
   const ros::WallTime now = ros::WallTime::now();
-  ros::WallTime& last = last_reported_[what];
+  std::string key;  // numbers vary from frame to frame: throttle per kind of error
+  for (const char c : what) {
+    if (!std::isdigit(static_cast<unsigned char>(c))) key += c;
+  }
+  ros::WallTime& last = last_reported_[key];
   if (last.isZero() || now - last > ros::WallDuration(5.0)) {
     last = now;
     ROS_ERROR_STREAM("registration: " << what);
@@ -263,15 +310,19 @@ void RegistrationNode::Register(const sensor_msgs::PointCloud2::ConstPtr& msg) {
                                       << " ms" << (r.converged ? "" : " (not converged)"));
   } catch (const std::exception& e) {
     ReportError(std::string("cloud not registered, no estimate for this frame: ") + e.what());
-    aar_msgs::PoseEstimate none;  // valid = false: a miss, and lockstep moves on
-    none.header.stamp = msg->header.stamp;
-    none.header.frame_id = options_.tanker_frame;
-    none.pose.orientation.w = 1.0;
-    none.total_ms =
-        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - received)
-            .count();
-    estimate_pub_.publish(none);
+    PublishNone(msg->header.stamp, std::chrono::duration<double, std::milli>(
+                                       std::chrono::steady_clock::now() - received)
+                                       .count());
   }
+}
+
+void RegistrationNode::PublishNone(const ros::Time& stamp, double total_ms) {
+  aar_msgs::PoseEstimate none;  // valid = false: a miss, and lockstep moves on
+  none.header.stamp = stamp;
+  none.header.frame_id = options_.tanker_frame;
+  none.pose.orientation.w = 1.0;
+  none.total_ms = total_ms;
+  estimate_pub_.publish(none);
 }
 
 }  // namespace aar_registration

@@ -25,7 +25,13 @@ struct OcclusionNodeOptions {
   bool publish_reference = true;           // the dynamic reference model on aar/reference_cloud
   std::string robot_description = "robot_description";  // parameter holding the boom's URDF
   std::string receiver_mesh;                            // default: aar_sim's models/receiver.obj
-  aar_registration::ReferenceModelOptions sampling;
+  // 127 samples per m^2 (about 9 cm apart, 20k samples): as accurate as 400 on the default
+  // approach (docs/RESULTS.md) at a third of the cost (docs/PERFORMANCE.md).
+  aar_registration::ReferenceModelOptions sampling = [] {
+    aar_registration::ReferenceModelOptions o;
+    o.points_per_m2 = 127.0;
+    return o;
+  }();
   DynamicReferenceOptions reference;
   std::string tanker_frame = "tanker";
   std::string receiver_frame = "receiver";  // the latest estimate: tf tanker -> receiver
@@ -33,7 +39,11 @@ struct OcclusionNodeOptions {
   std::string right_camera_frame = "stereo_right_optical";
   double tf_timeout = 0.5;        // [s wall] waiting for the cloud's, cameras' and links' tf
   double estimate_max_age = 1.0;  // [s] an older estimate is not used as the predicted pose
-  double marker_length = 30.0;    // [m] how far the shadow-volume markers reach past the boom
+  // [s wall] how long to wait for the estimate of the previous cloud (tf tanker -> receiver at
+  // its stamp): in lockstep it is on its way, and waiting makes runs repeatable.
+  double estimate_wait = 0.2;
+  double diagnostic_period = 1.0;  // [s wall] /diagnostics
+  double marker_length = 30.0;     // [m] how far the shadow-volume markers reach past the boom
 };
 
 // Reads ~parameters (one function, unknown keys rejected); throws std::invalid_argument.
@@ -75,8 +85,10 @@ class OcclusionNode {
 
   std::mutex report_mutex_;  // guards what diagnostics and error throttling read
   std::map<std::string, ros::WallTime> last_reported_;
-  std::string last_frame_error_;  // empty when the last frame was culled as configured
-  uint64_t frames_ = 0, unculled_frames_ = 0;
+  std::string last_frame_error_;             // empty when the last frame was culled as configured
+  std::string last_reference_error_;         // empty when the last reference was built
+  std::optional<ros::Time> previous_stamp_;  // of the previous cloud
+  uint64_t frames_ = 0, unculled_frames_ = 0, reference_failures_ = 0;
   double last_ms_ = 0.0;
   size_t last_boom_points_ = 0, last_reference_both_ = 0;
 };

@@ -3,6 +3,7 @@
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <set>
 #include <string>
 
 #include <message_filters/subscriber.h>
@@ -34,6 +35,9 @@ struct RegistrationNodeOptions {
   std::string left_camera_frame = "stereo_left_optical";  // eyes for shelling, from tf
   std::string right_camera_frame = "stereo_right_optical";
   double tf_timeout = 0.5;  // [s wall] waiting for the sensed cloud's transform
+  // [s wall] reference: topic: a cloud without a reference of its stamp this long is answered
+  // with an invalid estimate.
+  double reference_timeout = 2.0;
 };
 
 // Reads ~parameters (one function, unknown keys rejected); throws std::invalid_argument.
@@ -53,6 +57,9 @@ class RegistrationNode {
   void OnPair(const sensor_msgs::PointCloud2::ConstPtr& points,
               const sensor_msgs::PointCloud2::ConstPtr& reference);
   void SetReference(const sensor_msgs::PointCloud2& msg);  // throws std::invalid_argument
+  void OnPointsSeen(const sensor_msgs::PointCloud2::ConstPtr& msg);
+  void ExpirePending(const ros::WallTimerEvent&);
+  void PublishNone(const ros::Time& stamp, double total_ms);
   void BuildStaticReference();
   void ReportError(const std::string& what);
 
@@ -67,6 +74,10 @@ class RegistrationNode {
       message_filters::TimeSynchronizer<sensor_msgs::PointCloud2, sensor_msgs::PointCloud2>;
   message_filters::Subscriber<sensor_msgs::PointCloud2> points_filter_, reference_filter_;
   std::unique_ptr<Sync> sync_;
+  ros::WallTimer pending_timer_;
+  std::mutex pending_mutex_;
+  std::map<ros::Time, ros::WallTime> pending_;  // clouds waiting for their reference
+  std::set<ros::Time> answered_;                // recent stamps already answered
 
   std::mutex mutex_;  // the target and the previous estimate
   Icp icp_;
