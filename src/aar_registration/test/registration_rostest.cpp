@@ -169,6 +169,79 @@ TEST(BadInput, ErrorsNamedNoEstimateNodeAlive) {
   EXPECT_NEAR(good->pose.position.x, -35.0, 5.0);
 }
 
+// reference: topic: each cloud is registered to the reference of its own stamp, to the points
+// both cameras see (visibility 0); a cloud whose reference never comes gets an invalid estimate.
+TEST(TopicReference, PairsByStampUsesClassZeroAndAnswersWithoutReference) {
+  ros::NodeHandle nh;
+  ros::Publisher clouds = nh.advertise<sensor_msgs::PointCloud2>("/points", 5);
+  ros::Publisher references = nh.advertise<sensor_msgs::PointCloud2>("/aar/reference_cloud", 5);
+  aar_sim::StampedCollector<aar_msgs::PoseEstimate> estimates(nh, "/aar/pose_estimate");
+  tf2_ros::StaticTransformBroadcaster static_tf;
+  geometry_msgs::TransformStamped mount;
+  mount.header.frame_id = "tanker";
+  mount.child_frame_id = "sensor";
+  mount.transform.translation.x = -35.0;
+  mount.transform.rotation.w = 1.0;
+  static_tf.sendTransform(mount);
+  const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(30.0);
+  while (ros::WallTime::now() < deadline &&
+         (clouds.getNumSubscribers() == 0 || references.getNumSubscribers() == 0 ||
+          estimates.sub.getNumPublishers() == 0)) {
+    ros::WallDuration(0.05).sleep();
+  }
+  ASSERT_GT(references.getNumSubscribers(), 0u);
+  auto wait_for = [&](const ros::Time& stamp) {
+    const ros::WallTime until = ros::WallTime::now() + ros::WallDuration(10.0);
+    while (ros::WallTime::now() < until) {
+      {
+        std::lock_guard<std::mutex> lock(estimates.mutex);
+        if (estimates.by_stamp.count(stamp)) return estimates.by_stamp.at(stamp);
+      }
+      ros::WallDuration(0.02).sleep();
+    }
+    return aar_msgs::PoseEstimate::ConstPtr();
+  };
+  std::vector<Eigen::Vector3f> shape;
+  for (int i = -40; i <= 40; ++i) {
+    shape.emplace_back(0.1f * i, 0.0f, 0.0f);   // fuselage line
+    shape.emplace_back(0.5f, 0.2f * i, -0.4f);  // wing line
+  }
+  // No reference: answered (invalid) after reference_timeout.
+  const auto alone = Cloud("sensor", shape);
+  clouds.publish(alone);
+  const auto none = wait_for(alone.header.stamp);
+  ASSERT_TRUE(none) << "no answer for a cloud without a reference";
+  EXPECT_FALSE(none->valid);
+
+  // With a reference of the same stamp: the shape (class 0) plus 300 points of class 3 far off,
+  // which would pull the centroid seed 10 m aside if they were used.
+  auto cloud = Cloud("sensor", shape);
+  std::vector<Eigen::Vector3f> ref_points = shape;
+  for (int i = 0; i < 300; ++i) ref_points.emplace_back(0.0f, 40.0f, 0.0f);
+  sensor_msgs::PointCloud2 reference;
+  reference.header.stamp = cloud.header.stamp;
+  reference.header.frame_id = "receiver";
+  sensor_msgs::PointCloud2Modifier modifier(reference);
+  modifier.setPointCloud2Fields(
+      4, "x", 1, sensor_msgs::PointField::FLOAT32, "y", 1, sensor_msgs::PointField::FLOAT32, "z", 1,
+      sensor_msgs::PointField::FLOAT32, "visibility", 1, sensor_msgs::PointField::UINT8);
+  modifier.resize(ref_points.size());
+  sensor_msgs::PointCloud2Iterator<float> x(reference, "x");
+  sensor_msgs::PointCloud2Iterator<uint8_t> v(reference, "visibility");
+  for (size_t i = 0; i < ref_points.size(); ++i, ++x, ++v) {
+    x[0] = ref_points[i].x(), x[1] = ref_points[i].y(), x[2] = ref_points[i].z();
+    *v = i < shape.size() ? 0 : 3;
+  }
+  references.publish(reference);
+  clouds.publish(cloud);
+  const auto paired = wait_for(cloud.header.stamp);
+  ASSERT_TRUE(paired) << "no answer for a cloud with its reference";
+  EXPECT_TRUE(paired->valid);
+  EXPECT_EQ(paired->reference_points, shape.size());
+  EXPECT_NEAR(paired->pose.position.x, -35.0, 0.01);
+  EXPECT_NEAR(paired->pose.position.y, 0.0, 0.01);
+}
+
 TEST(BadInput, MissingReferenceMeshExitsNamingIt) {
   const std::string log = "/tmp/aar_registration_bad_mesh.log";
   const int status = std::system(
