@@ -1,6 +1,5 @@
 #include "aar_occlusion/ros/occlusion_node.h"
 
-#include <cctype>
 #include <chrono>
 
 #include <aar_geometry/load_error.h>
@@ -231,17 +230,7 @@ void OcclusionNode::OnCloud(const sensor_msgs::PointCloud2::ConstPtr& msg) {
 }
 
 void OcclusionNode::ReportError(const std::string& what) {
-  std::lock_guard<std::mutex> lock(report_mutex_);
-  const ros::WallTime now = ros::WallTime::now();
-  std::string key;  // numbers vary from frame to frame: throttle per kind of error
-  for (const char c : what) {
-    if (!std::isdigit(static_cast<unsigned char>(c))) key += c;
-  }
-  ros::WallTime& last = last_reported_[key];
-  if (last.isZero() || now - last > ros::WallDuration(5.0)) {
-    last = now;
-    ROS_ERROR_STREAM("occlusion: " << what);
-  }
+  if (errors_.ShouldLog(what)) ROS_ERROR_STREAM("occlusion: " << what);
 }
 
 void OcclusionNode::Diagnose(diagnostic_updater::DiagnosticStatusWrapper& status) {

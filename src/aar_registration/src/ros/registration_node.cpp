@@ -3,7 +3,6 @@
 #include "aar_registration/ros/conversions.h"
 #include "aar_registration/ros/node_utils.h"
 
-#include <cctype>
 #include <chrono>
 #include <cstring>
 #include <set>
@@ -221,17 +220,7 @@ void RegistrationNode::OnPair(const sensor_msgs::PointCloud2::ConstPtr& points,
 }
 
 void RegistrationNode::ReportError(const std::string& what) {
-  std::lock_guard<std::mutex> lock(report_mutex_);
-  const ros::WallTime now = ros::WallTime::now();
-  std::string key;  // numbers vary from frame to frame: throttle per kind of error
-  for (const char c : what) {
-    if (!std::isdigit(static_cast<unsigned char>(c))) key += c;
-  }
-  ros::WallTime& last = last_reported_[key];
-  if (last.isZero() || now - last > ros::WallDuration(5.0)) {
-    last = now;
-    ROS_ERROR_STREAM("registration: " << what);
-  }
+  if (errors_.ShouldLog(what)) ROS_ERROR_STREAM("registration: " << what);
 }
 
 void RegistrationNode::OnCloud(const sensor_msgs::PointCloud2::ConstPtr& msg) {

@@ -6,6 +6,7 @@
 #include <optional>
 #include <string>
 
+#include <aar_registration/ros/node_utils.h>
 #include <diagnostic_updater/diagnostic_updater.h>
 #include <ros/ros.h>
 #include <sensor_msgs/PointCloud2.h>
@@ -83,8 +84,8 @@ class OcclusionNode {
   std::unique_ptr<DynamicReference> reference_;
   bool markers_stale_ = true;
 
-  std::mutex report_mutex_;  // guards what diagnostics and error throttling read
-  std::map<std::string, ros::WallTime> last_reported_;
+  aar_registration::ErrorThrottle errors_;
+  std::mutex report_mutex_;                  // guards what diagnostics read
   std::string last_frame_error_;             // empty when the last frame was culled as configured
   std::string last_reference_error_;         // empty when the last reference was built
   std::optional<ros::Time> previous_stamp_;  // of the previous cloud

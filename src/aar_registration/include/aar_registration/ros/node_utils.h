@@ -1,5 +1,8 @@
 #pragma once
 
+#include <cctype>
+#include <map>
+#include <mutex>
 #include <set>
 #include <stdexcept>
 #include <string>
@@ -40,6 +43,32 @@ class ParamReader {
  private:
   const ros::NodeHandle& nh_;
   std::set<std::string> known_;
+};
+
+// Says whether to log an error now: each kind of error (its text without digits, which vary
+// from frame to frame) at most once per period of wall time. ROS's _THROTTLE macros throttle
+// per call site and would hide a second, different error. Thread-safe.
+class ErrorThrottle {
+ public:
+  explicit ErrorThrottle(double period_s = 5.0) : period_(period_s) {}
+
+  bool ShouldLog(const std::string& what) {
+    std::string key;
+    for (const char c : what) {
+      if (!std::isdigit(static_cast<unsigned char>(c))) key += c;
+    }
+    std::lock_guard<std::mutex> lock(mutex_);
+    const ros::WallTime now = ros::WallTime::now();
+    ros::WallTime& last = last_[key];
+    if (!last.isZero() && now - last <= period_) return false;
+    last = now;
+    return true;
+  }
+
+ private:
+  ros::WallDuration period_;
+  std::mutex mutex_;
+  std::map<std::string, ros::WallTime> last_;
 };
 
 // Waits for a transform in wall-clock time. tf2's own timed wait counts simulated time, which

@@ -16,6 +16,7 @@
 
 #include "aar_registration/icp.h"
 #include "aar_registration/reference_model.h"
+#include "aar_registration/ros/node_utils.h"
 
 namespace aar_registration {
 
@@ -83,8 +84,7 @@ class RegistrationNode {
   Icp icp_;
   std::vector<Eigen::Vector3d> reference_points_;                    // in the receiver frame
   std::optional<std::pair<ros::Time, Eigen::Isometry3d>> previous_;  // T_tanker_receiver
-  std::mutex report_mutex_;  // guards last_reported_ (errors come from several callbacks)
-  std::map<std::string, ros::WallTime> last_reported_;
+  ErrorThrottle errors_;
 };
 
 }  // namespace aar_registration
