@@ -108,6 +108,22 @@ int main(int argc, char** argv) {
           out << "![" << e << " " << kind << "](" << png << ")\n\n";
       }
     }
+    // Headless rviz captures (scripts/capture), if the run made them.
+    std::vector<std::string> captures;
+    if (std::filesystem::is_directory(dir + "/captures")) {
+      for (const auto& entry : std::filesystem::directory_iterator(dir + "/captures")) {
+        if (entry.path().extension() == ".png") captures.push_back(entry.path().filename());
+      }
+    }
+    std::sort(captures.begin(), captures.end());
+    if (!captures.empty()) {
+      out << "## rviz captures\n\n"
+          << "config/rviz/aar.rviz on rosbags/sample_contact.bag (experiment dynamic, near "
+             "contact): sensed cloud white, removed boom points magenta, dynamic reference by "
+             "class (both cameras red, left only cyan, right only blue, neither green), shadow "
+             "volumes translucent (left blue, right orange), receiver at the estimate orange.\n\n";
+      for (const auto& png : captures) out << "![" << png << "](captures/" << png << ")\n\n";
+    }
     if (!out) throw std::runtime_error(dir + "/report.md: write failed");
     std::cout << "make_report: wrote " << dir << "/report.md (" << done.size() << " experiments)\n";
   } catch (const std::exception& e) {

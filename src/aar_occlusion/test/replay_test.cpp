@@ -90,4 +90,37 @@ TEST(Replay, BrokenBagsAreNamedAndRefused) {
   }
 }
 
+// Headless rviz on the sample bag: the capture shows the removed boom points (magenta) and the
+// reference points both cameras see (red), the colours config/rviz/aar.rviz gives them.
+TEST(Capture, ScreenshotShowsTheConfiguredColours) {
+  const std::string out = ::testing::TempDir() + "/capture_sample";
+  std::filesystem::remove_all(out);
+  const Result r = Sh("timeout 400 " + kRoot + "/scripts/capture --no-build " + kRoot +
+                      "/rosbags/sample_contact.bag --frames 6 --out " + out);
+  std::printf("%s", r.output.c_str());
+  ASSERT_EQ(r.status, 0);
+  const std::string png = out + "/frame_006.png";
+  ASSERT_TRUE(std::filesystem::exists(png));
+  // Pixels of each colour in the 3D view (right of the image panels), counted by Pillow.
+  const Result counts =
+      Sh("/usr/bin/python3 -c \"from PIL import Image\n"
+         "im = Image.open('" +
+         png +
+         "').convert('RGB'); w, h = im.size; px = im.load()\n"
+         "m = r = 0\n"
+         "for y in range(h):\n"
+         "  for x in range(w // 4, w):\n"
+         "    R, G, B = px[x, y]\n"
+         "    m += R > 220 and G < 40 and B > 220\n"
+         "    r += R > 220 and G < 40 and B < 40\n"
+         "print(m, r)\"");
+  ASSERT_EQ(counts.status, 0) << counts.output;
+  int magenta = 0, red = 0;
+  ASSERT_EQ(std::sscanf(counts.output.c_str(), "%d %d", &magenta, &red), 2) << counts.output;
+  std::printf("[ capture ] %s: %d magenta (boom points), %d red (reference, both cameras)\n",
+              png.c_str(), magenta, red);
+  EXPECT_GT(magenta, 50);
+  EXPECT_GT(red, 500);
+}
+
 }  // namespace

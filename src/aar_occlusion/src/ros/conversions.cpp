@@ -3,6 +3,12 @@
 #include <cstring>
 
 namespace aar_occlusion {
+namespace {
+
+// 0x00RRGGBB per class: both red, left only cyan, right only blue, neither green.
+const uint32_t kClassColours[4] = {0xff0000, 0x00ffff, 0x0000ff, 0x00ff00};
+
+}  // namespace
 
 sensor_msgs::PointCloud2 ToCloud(const DynamicReferenceResult& reference,
                                  const std_msgs::Header& header) {
@@ -23,7 +29,13 @@ sensor_msgs::PointCloud2 ToCloud(const DynamicReferenceResult& reference,
   visibility.datatype = sensor_msgs::PointField::UINT8;
   visibility.count = 1;
   msg.fields.push_back(visibility);
-  msg.point_step = 28;  // 4-byte aligned
+  sensor_msgs::PointField rgb;  // rviz's RGB8 colouring, as the thesis's Fig. 17
+  rgb.name = "rgb";
+  rgb.offset = 28;
+  rgb.datatype = sensor_msgs::PointField::FLOAT32;
+  rgb.count = 1;
+  msg.fields.push_back(rgb);
+  msg.point_step = 32;
   msg.height = 1;
   msg.width = static_cast<uint32_t>(reference.cloud.size());
   msg.row_step = msg.point_step * msg.width;
@@ -36,6 +48,7 @@ sensor_msgs::PointCloud2 ToCloud(const DynamicReferenceResult& reference,
     std::memcpy(p, point.data(), 12);
     std::memcpy(p + 12, normal.data(), 12);
     p[24] = static_cast<uint8_t>(reference.classes[i]);
+    std::memcpy(p + 28, &kClassColours[static_cast<int>(reference.classes[i])], 4);
   }
   return msg;
 }

@@ -5,6 +5,7 @@
 
 #include <chrono>
 #include <cstring>
+#include <filesystem>
 #include <set>
 
 #include <aar_geometry/mesh_io.h>
@@ -14,6 +15,7 @@
 #include <ros/package.h>
 #include <sensor_msgs/point_cloud2_iterator.h>
 #include <tf2_eigen/tf2_eigen.h>
+#include <visualization_msgs/MarkerArray.h>
 
 namespace aar_registration {
 
@@ -72,6 +74,7 @@ RegistrationNodeOptions LoadRegistrationNodeOptions(const ros::NodeHandle& nh) {
   o.previous_max_age = params.Get("previous_max_age", o.previous_max_age);
   o.tanker_frame = params.Get("tanker_frame", o.tanker_frame);
   o.receiver_frame = params.Get("receiver_frame", o.receiver_frame);
+  o.truth_frame = params.Get("truth_frame", o.truth_frame);
   o.left_camera_frame = params.Get("left_camera_frame", o.left_camera_frame);
   o.right_camera_frame = params.Get("right_camera_frame", o.right_camera_frame);
   o.tf_timeout = params.Get("tf_timeout", o.tf_timeout);
@@ -86,6 +89,7 @@ RegistrationNode::RegistrationNode(ros::NodeHandle nh, ros::NodeHandle,
     : nh_(nh), options_(options), tf_listener_(tf_buffer_), icp_(options.icp) {
   pose_pub_ = nh_.advertise<geometry_msgs::PoseWithCovarianceStamped>("aar/receiver_pose", 10);
   estimate_pub_ = nh_.advertise<aar_msgs::PoseEstimate>("aar/pose_estimate", 10);
+  PublishModels();
   if (options_.reference == ReferenceKind::kTopic) {
     // Each cloud is registered to the reference built for its own frame (same stamp).
     points_filter_.subscribe(nh_, "points", 5);
@@ -303,6 +307,31 @@ void RegistrationNode::Register(const sensor_msgs::PointCloud2::ConstPtr& msg) {
                                        std::chrono::steady_clock::now() - received)
                                        .count());
   }
+}
+
+void RegistrationNode::PublishModels() {
+  // The receiver model at the estimate (orange) and at truth (grey), for rviz: latched, each
+  // locked to its frame, shown where tf has that frame (truth: simulations and their bags).
+  models_pub_ = nh_.advertise<visualization_msgs::MarkerArray>("aar/receiver_models", 1, true);
+  visualization_msgs::MarkerArray models;
+  for (const auto& [frame, ns] : {std::make_pair(options_.receiver_frame, "estimate"),
+                                  std::make_pair(options_.truth_frame, "truth")}) {
+    visualization_msgs::Marker m;
+    m.header.frame_id = frame;
+    m.ns = ns;
+    m.type = visualization_msgs::Marker::MESH_RESOURCE;
+    m.mesh_resource = "file://" + std::filesystem::absolute(options_.receiver_mesh).string();
+    m.pose.orientation.w = 1.0;
+    m.scale.x = m.scale.y = m.scale.z = 1.0;
+    const bool estimate = std::string(ns) == "estimate";
+    m.color.r = estimate ? 1.0f : 0.8f;
+    m.color.g = estimate ? 0.55f : 0.8f;
+    m.color.b = estimate ? 0.1f : 0.8f;
+    m.color.a = estimate ? 0.6f : 1.0f;
+    m.frame_locked = true;
+    models.markers.push_back(m);
+  }
+  models_pub_.publish(models);
 }
 
 void RegistrationNode::PublishNone(const ros::Time& stamp, double total_ms) {

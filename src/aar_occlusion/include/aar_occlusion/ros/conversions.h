@@ -9,8 +9,9 @@
 
 namespace aar_occlusion {
 
-// x, y, z, normal_x, normal_y, normal_z (float32) and visibility (uint8: 0 both cameras,
-// 1 left only, 2 right only, 3 neither), unorganized, in the receiver frame.
+// x, y, z, normal_x, normal_y, normal_z (float32), visibility (uint8: 0 both cameras, 1 left
+// only, 2 right only, 3 neither) and rgb (packed as rviz reads it: red, cyan, blue, green by
+// class, as the thesis's Fig. 17), unorganized, in the receiver frame.
 sensor_msgs::PointCloud2 ToCloud(const DynamicReferenceResult& reference,
                                  const std_msgs::Header& header);
 

@@ -33,6 +33,7 @@ struct RegistrationNodeOptions {
   double previous_max_age = 1.0;        // [s] older previous estimates are not used as seeds
   std::string tanker_frame = "tanker";
   std::string receiver_frame = "receiver";
+  std::string truth_frame = "receiver_truth";             // only for the rviz model at truth
   std::string left_camera_frame = "stereo_left_optical";  // eyes for shelling, from tf
   std::string right_camera_frame = "stereo_right_optical";
   double tf_timeout = 0.5;  // [s wall] waiting for the sensed cloud's transform
@@ -61,6 +62,7 @@ class RegistrationNode {
   void OnPointsSeen(const sensor_msgs::PointCloud2::ConstPtr& msg);
   void ExpirePending(const ros::WallTimerEvent&);
   void PublishNone(const ros::Time& stamp, double total_ms);
+  void PublishModels();
   void BuildStaticReference();
   void ReportError(const std::string& what);
 
@@ -69,7 +71,7 @@ class RegistrationNode {
   tf2_ros::Buffer tf_buffer_;
   tf2_ros::TransformListener tf_listener_;
   tf2_ros::TransformBroadcaster tf_broadcaster_;
-  ros::Publisher pose_pub_, estimate_pub_;
+  ros::Publisher pose_pub_, estimate_pub_, models_pub_;
   ros::Subscriber cloud_sub_;
   using Sync =
       message_filters::TimeSynchronizer<sensor_msgs::PointCloud2, sensor_msgs::PointCloud2>;
