@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Screenshots of the X display (rviz under Xvfb) at chosen frames: after the k-th pose estimate
-(1-based, in arrival order) it waits ~delay seconds (wall) for rviz to draw, grabs the screen and
-writes ~output_dir/frame_KKK.png; it exits once the last is written, or after ~timeout."""
+(1-based, in arrival order) it waits ~delay seconds (wall; less than a frame's period at the
+replay's rate) for rviz to draw, grabs the screen and writes ~output_dir/frame_KKK.png; it exits
+once the last is written, on shutdown, or after ~timeout."""
 import os
 import sys
 import threading
@@ -15,7 +16,7 @@ def main():
     rospy.init_node("capture_frames")
     frames = sorted(int(f) for f in str(rospy.get_param("~frames", "10")).split(",") if f.strip())
     out = rospy.get_param("~output_dir")
-    delay = float(rospy.get_param("~delay", 1.5))
+    delay = float(rospy.get_param("~delay", 0.6))
     timeout = float(rospy.get_param("~timeout", 300.0))
     display = os.environ.get("DISPLAY")
     if not display:
@@ -40,9 +41,12 @@ def main():
             threading.Timer(delay, grab, args=(k,)).start()
 
     rospy.Subscriber("/aar/pose_estimate", PoseEstimate, on_estimate, queue_size=50)
-    if not done.wait(timeout):
-        rospy.logerr(f"capture_frames: {count[0]} estimates in {timeout} s; frames {pending} not captured")
-        sys.exit(1)
+    waited = 0.0
+    while not done.wait(0.2):
+        waited += 0.2
+        if rospy.is_shutdown() or waited > timeout:
+            rospy.logerr(f"capture_frames: {count[0]} estimates; frames {pending} not captured")
+            sys.exit(1)
     rospy.sleep(0.5)
 
 

@@ -119,7 +119,8 @@ int main(int argc, char** argv) {
     if (!captures.empty()) {
       out << "## rviz captures\n\n"
           << "config/rviz/aar.rviz on rosbags/sample_contact.bag (experiment dynamic, near "
-             "contact): sensed cloud white, removed boom points magenta, dynamic reference by "
+             "contact): sensed cloud without the boom white, removed boom points magenta, dynamic "
+             "reference by "
              "class (both cameras red, left only cyan, right only blue, neither green), shadow "
              "volumes translucent (left blue, right orange), receiver at the estimate orange.\n\n";
       for (const auto& png : captures) out << "![" << png << "](captures/" << png << ")\n\n";
