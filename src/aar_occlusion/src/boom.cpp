@@ -274,9 +274,12 @@ std::vector<bool> BoomOcclusion::Cull(const std::vector<Eigen::Vector3d>& points
   if (!ready_) throw std::logic_error("BoomOcclusion::Cull before a successful Update");
   std::vector<bool> boom(points.size(), false);
   const bool behind = options_.cull_behind_boom;
-  if (method == CullMethod::kRaysBrute || method == CullMethod::kRaysBvh) BuildRayTargets();
-  std::vector<Eigen::Vector3d> directions(points.size());
-  for (size_t i = 0; i < points.size(); ++i) directions[i] = (points[i] - eyes_[0]).normalized();
+  std::vector<Eigen::Vector3d> directions;  // from the eye through each point: the rays only
+  if (method == CullMethod::kRaysBrute || method == CullMethod::kRaysBvh) {
+    BuildRayTargets();
+    directions.resize(points.size());
+    for (size_t i = 0; i < points.size(); ++i) directions[i] = (points[i] - eyes_[0]).normalized();
+  }
   // Rays: from the eye through the point against the grown boom (thesis), or else from the point
   // on away from the eye against the grown boom (it hits exactly when the point is in front of
   // the far side) and from the eye through the point against the outline.

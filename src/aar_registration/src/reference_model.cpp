@@ -56,6 +56,27 @@ struct VisibilityTester::Bvh {
   RTCScene scene = nullptr;
 };
 
+namespace {
+
+// True when the ray from `origin` along unit `d` hits the scene before `tfar` [m].
+bool Occluded(RTCScene scene, RTCIntersectContext* context, const Eigen::Vector3d& origin,
+              const Eigen::Vector3d& d, float tfar) {
+  RTCRay ray{};
+  ray.org_x = static_cast<float>(origin.x());
+  ray.org_y = static_cast<float>(origin.y());
+  ray.org_z = static_cast<float>(origin.z());
+  ray.dir_x = static_cast<float>(d.x());
+  ray.dir_y = static_cast<float>(d.y());
+  ray.dir_z = static_cast<float>(d.z());
+  ray.tnear = 0.0f;
+  ray.tfar = tfar;
+  ray.mask = 0xffffffff;
+  rtcOccluded1(scene, context, &ray);
+  return ray.tfar < 0.0f;  // Embree sets tfar to -inf when something is hit
+}
+
+}  // namespace
+
 VisibilityTester::VisibilityTester(const aar_geometry::TriangleMesh& mesh)
     : bvh_(std::make_unique<Bvh>()) {
   mesh.Validate();
@@ -98,19 +119,8 @@ std::vector<bool> VisibilityTester::Visible(const std::vector<Eigen::Vector3d>& 
     const Eigen::Vector3d to_point = points[i] - eye;
     const double distance = to_point.norm();
     if (!(distance > tolerance) || normals[i].dot(to_point) >= 0.0) continue;  // faces away
-    const Eigen::Vector3d d = to_point / distance;
-    RTCRay ray{};
-    ray.org_x = static_cast<float>(eye.x());
-    ray.org_y = static_cast<float>(eye.y());
-    ray.org_z = static_cast<float>(eye.z());
-    ray.dir_x = static_cast<float>(d.x());
-    ray.dir_y = static_cast<float>(d.y());
-    ray.dir_z = static_cast<float>(d.z());
-    ray.tnear = 0.0f;
-    ray.tfar = static_cast<float>(distance - tolerance);
-    ray.mask = 0xffffffff;
-    rtcOccluded1(bvh_->scene, &context, &ray);
-    visible[i] = ray.tfar >= 0.0f;  // Embree sets tfar to -inf when something is hit
+    visible[i] = !Occluded(bvh_->scene, &context, eye, to_point / distance,
+                           static_cast<float>(distance - tolerance));
   }
   return visible;
 }
@@ -126,18 +136,7 @@ std::vector<bool> VisibilityTester::RaysHit(const std::vector<Eigen::Vector3d>& 
     const Eigen::Vector3d& origin = origins[i];
     const Eigen::Vector3d& d = directions[i];
     if (!origin.allFinite() || !d.allFinite()) continue;
-    RTCRay ray{};
-    ray.org_x = static_cast<float>(origin.x());
-    ray.org_y = static_cast<float>(origin.y());
-    ray.org_z = static_cast<float>(origin.z());
-    ray.dir_x = static_cast<float>(d.x());
-    ray.dir_y = static_cast<float>(d.y());
-    ray.dir_z = static_cast<float>(d.z());
-    ray.tnear = 0.0f;
-    ray.tfar = std::numeric_limits<float>::infinity();
-    ray.mask = 0xffffffff;
-    rtcOccluded1(bvh_->scene, &context, &ray);
-    hit[i] = ray.tfar < 0.0f;
+    hit[i] = Occluded(bvh_->scene, &context, origin, d, std::numeric_limits<float>::infinity());
   }
   return hit;
 }

@@ -92,6 +92,26 @@ sensor_msgs::PointCloud2 Cloud(const std::string& frame, const std::vector<Eigen
   return msg;
 }
 
+// Frame "sensor" 35 m aft of the tanker origin, where the receiver flies near contact.
+geometry_msgs::TransformStamped SensorMount() {
+  geometry_msgs::TransformStamped mount;
+  mount.header.frame_id = "tanker";
+  mount.child_frame_id = "sensor";
+  mount.transform.translation.x = -35.0;
+  mount.transform.rotation.w = 1.0;
+  return mount;
+}
+
+// A cloud of the receiver's rough shape around its origin: a fuselage line and a wing line.
+std::vector<Eigen::Vector3f> ReceiverShape() {
+  std::vector<Eigen::Vector3f> shape;
+  for (int i = -40; i <= 40; ++i) {
+    shape.emplace_back(0.1f * i, 0.0f, 0.0f);
+    shape.emplace_back(0.5f, 0.2f * i, -0.4f);
+  }
+  return shape;
+}
+
 TEST(BadInput, ErrorsNamedNoEstimateNodeAlive) {
   ros::NodeHandle nh;
   ros::Publisher clouds = nh.advertise<sensor_msgs::PointCloud2>("/points", 5);
@@ -106,12 +126,7 @@ TEST(BadInput, ErrorsNamedNoEstimateNodeAlive) {
       });
   aar_sim::StampedCollector<aar_msgs::PoseEstimate> estimates(nh, "/aar/pose_estimate");
   tf2_ros::StaticTransformBroadcaster static_tf;
-  geometry_msgs::TransformStamped mount;
-  mount.header.frame_id = "tanker";
-  mount.child_frame_id = "sensor";
-  mount.transform.translation.x = -35.0;
-  mount.transform.rotation.w = 1.0;
-  static_tf.sendTransform(mount);
+  static_tf.sendTransform(SensorMount());
   const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(30.0);
   while (ros::WallTime::now() < deadline &&
          (clouds.getNumSubscribers() == 0 || rosout.getNumPublishers() == 0)) {
@@ -153,11 +168,7 @@ TEST(BadInput, ErrorsNamedNoEstimateNodeAlive) {
   const size_t invalid = estimates.size();
 
   // Alive: a cloud of the receiver's shape 35 m aft gives an estimate near there.
-  std::vector<Eigen::Vector3f> shape;
-  for (int i = -40; i <= 40; ++i) {
-    shape.emplace_back(0.1f * i, 0.0f, 0.0f);   // fuselage line
-    shape.emplace_back(0.5f, 0.2f * i, -0.4f);  // wing line
-  }
+  const std::vector<Eigen::Vector3f> shape = ReceiverShape();
   clouds.publish(Cloud("sensor", shape));
   const ros::WallTime until = ros::WallTime::now() + ros::WallDuration(10.0);
   while (ros::WallTime::now() < until && estimates.size() == invalid)
@@ -177,12 +188,7 @@ TEST(TopicReference, PairsByStampUsesClassZeroAndAnswersWithoutReference) {
   ros::Publisher references = nh.advertise<sensor_msgs::PointCloud2>("/aar/reference_cloud", 5);
   aar_sim::StampedCollector<aar_msgs::PoseEstimate> estimates(nh, "/aar/pose_estimate");
   tf2_ros::StaticTransformBroadcaster static_tf;
-  geometry_msgs::TransformStamped mount;
-  mount.header.frame_id = "tanker";
-  mount.child_frame_id = "sensor";
-  mount.transform.translation.x = -35.0;
-  mount.transform.rotation.w = 1.0;
-  static_tf.sendTransform(mount);
+  static_tf.sendTransform(SensorMount());
   const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(30.0);
   while (ros::WallTime::now() < deadline &&
          (clouds.getNumSubscribers() == 0 || references.getNumSubscribers() == 0 ||
@@ -201,11 +207,7 @@ TEST(TopicReference, PairsByStampUsesClassZeroAndAnswersWithoutReference) {
     }
     return aar_msgs::PoseEstimate::ConstPtr();
   };
-  std::vector<Eigen::Vector3f> shape;
-  for (int i = -40; i <= 40; ++i) {
-    shape.emplace_back(0.1f * i, 0.0f, 0.0f);   // fuselage line
-    shape.emplace_back(0.5f, 0.2f * i, -0.4f);  // wing line
-  }
+  const std::vector<Eigen::Vector3f> shape = ReceiverShape();
   // No reference: answered (invalid) after reference_timeout.
   const auto alone = Cloud("sensor", shape);
   clouds.publish(alone);

@@ -2,6 +2,8 @@
 
 #include <chrono>
 
+#include <boost/make_shared.hpp>
+
 #include <aar_geometry/load_error.h>
 #include <aar_geometry/mesh_io.h>
 #include <aar_registration/icp.h>
@@ -110,9 +112,10 @@ std::optional<Eigen::Isometry3d> OcclusionNode::Lookup(const std::string& frame,
 void OcclusionNode::OnCloud(const sensor_msgs::PointCloud2::ConstPtr& msg) {
   const auto start = std::chrono::steady_clock::now();
   std::lock_guard<std::mutex> lock(mutex_);
-  std::string error;            // why this frame is not culled
-  std::string reference_error;  // why it has no reference
-  sensor_msgs::PointCloud2 filtered = *msg, boom_points;
+  std::string error;                                  // why this frame is not culled
+  std::string reference_error;                        // why it has no reference
+  sensor_msgs::PointCloud2::ConstPtr filtered = msg;  // passed through unless culled below
+  sensor_msgs::PointCloud2 boom_points;
   boom_points.header = msg->header;
   boom_points.fields = msg->fields;
   boom_points.point_step = msg->point_step;
@@ -162,7 +165,8 @@ void OcclusionNode::OnCloud(const sensor_msgs::PointCloud2::ConstPtr& msg) {
       (is_boom[i] ? removed : keep).push_back(cloud.indices[i]);
       if (!is_boom[i]) kept_points.push_back(points[i]);
     }
-    filtered = aar_registration::SelectPoints(*msg, keep);
+    filtered = boost::make_shared<const sensor_msgs::PointCloud2>(
+        aar_registration::SelectPoints(*msg, keep));
     boom_points = aar_registration::SelectPoints(*msg, removed);
 
     if (reference_) {
