@@ -5,8 +5,8 @@
 
 #include <Eigen/Dense>
 
+#include <aar_geometry/receiver_reference.h>
 #include <aar_geometry/weld.h>
-#include <aar_registration/reference_model.h>
 
 namespace aar_occlusion {
 
@@ -247,7 +247,7 @@ void BoomOcclusion::RayTarget::Build(const TriangleMesh& mesh) {
     m.col(2) = mesh.vertices[t[2]] - mesh.vertices[t[0]];
     triangles.push_back(m);
   }
-  bvh = std::make_unique<aar_registration::VisibilityTester>(mesh);
+  bvh = std::make_unique<aar_geometry::VisibilityTester>(mesh);
 }
 
 bool BoomOcclusion::RayTarget::HitsBrute(const Eigen::Vector3d& o, const Eigen::Vector3d& d) const {

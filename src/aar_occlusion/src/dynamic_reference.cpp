@@ -4,12 +4,12 @@
 
 namespace aar_occlusion {
 
-DynamicReference::DynamicReference(aar_registration::ReferenceCloud dense,
+DynamicReference::DynamicReference(aar_geometry::ReferenceCloud dense,
                                    const aar_geometry::TriangleMesh& receiver,
                                    const DynamicReferenceOptions& options)
     : dense_(std::move(dense)),
       options_(options),
-      receiver_(std::make_unique<aar_registration::VisibilityTester>(receiver)) {
+      receiver_(std::make_unique<aar_geometry::VisibilityTester>(receiver)) {
   if (dense_.size() == 0) throw std::invalid_argument("DynamicReference: no reference samples");
 }
 

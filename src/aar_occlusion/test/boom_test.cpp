@@ -6,12 +6,13 @@
 #include <fstream>
 #include <random>
 
+#include <aar_description/boom_model.h>
 #include <aar_geometry/mesh_io.h>
+#include <aar_geometry/pose.h>
 #include <aar_geometry/primitives.h>
 #include <aar_geometry/surface_sampling.h>
 #include <aar_geometry/weld.h>
-#include <aar_sim/boom_model.h>
-#include <aar_sim/camera.h>
+#include <ros/package.h>
 
 #include "aar_occlusion/dynamic_reference.h"
 
@@ -20,12 +21,12 @@ namespace {
 
 using aar_geometry::TriangleMesh;
 
-const std::string kSim = AAR_SIM_SOURCE_DIR;
+const std::string kModels = ros::package::getPath("aar_description") + "/models";
 
 aar_geometry::RobotModel Boom() {
   aar_geometry::RobotModelOptions urdf;
-  urdf.package_paths = {std::filesystem::path(kSim).parent_path().string()};
-  return aar_geometry::LoadRobotModel(kSim + "/models/boom.urdf", urdf);
+  urdf.package_paths = {kModels + "/../.."};
+  return aar_geometry::LoadRobotModel(kModels + "/boom.urdf", urdf);
 }
 
 // Largest signed distance of `points` to the planes of `mesh`'s faces (negative: inside all).
@@ -127,28 +128,27 @@ TEST(BoomParts, BadPartsAreRefusedNamingTheLink) {
       "of boom link 'bracket' is not convex");
 }
 
-// The boom at a pose, seen from the default rig.
+// The boom at a pose, seen from the default rig: centre (-20, 1, -3) m looking aft, 0.5 m
+// baseline across the tanker's y axis (config/sim.yaml).
 struct Scene {
   std::unique_ptr<BoomOcclusion> boom;
   std::map<std::string, Eigen::Isometry3d> links;
   Eigen::Vector3d eyes[2];
 };
 
-Scene MakeScene(const aar_sim::BoomPose& pose) {
+Scene MakeScene(const aar_description::BoomPose& pose) {
   const auto model = Boom();
   Scene s;
   s.boom = std::make_unique<BoomOcclusion>(LoadBoomParts(model));
-  s.links = aar_geometry::ComputeLinkPoses(model, aar_sim::BoomJointPositions(pose));
-  const auto rig =
-      aar_sim::MakeStereoRig(aar_sim::CameraIntrinsics::FromHorizontalFov(1280, 960, 60.0), 0.5);
-  s.eyes[0] = rig.T_tanker_left_optical.translation();
-  s.eyes[1] = rig.T_tanker_right_optical().translation();
+  s.links = aar_geometry::ComputeLinkPoses(model, aar_description::BoomJointPositions(pose));
+  s.eyes[0] = {-20.0, 0.75, -3.0};
+  s.eyes[1] = {-20.0, 1.25, -3.0};
   EXPECT_TRUE(s.boom->Update(s.links, s.eyes[0], s.eyes[1]));
   return s;
 }
 
 TEST(BoomOcclusion, RebuildsOnlyWhenSomethingMoves) {
-  Scene s = MakeScene(aar_sim::DefaultBoomPose());
+  Scene s = MakeScene(aar_description::DefaultBoomPose());
   EXPECT_FALSE(s.boom->Update(s.links, s.eyes[0], s.eyes[1]));
   auto moved = s.links;
   moved.at("telescope").translation().x() += 0.01;
@@ -165,7 +165,7 @@ TEST(BoomOcclusion, RebuildsOnlyWhenSomethingMoves) {
 }
 
 int CheckRaysAndVolumesAgree(bool cull_behind_boom) {
-  Scene s = MakeScene(aar_sim::DefaultBoomPose());
+  Scene s = MakeScene(aar_description::DefaultBoomPose());
   BoomOcclusionOptions options;
   options.cull_behind_boom = cull_behind_boom;
   s.boom = std::make_unique<BoomOcclusion>(LoadBoomParts(Boom()), options);
@@ -218,11 +218,11 @@ TEST(BoomOcclusion, RaysAndVolumesCullTheSamePoints) {
 }
 
 TEST(DynamicReference, TheBoomHidesPartOfTheReceiverAtContact) {
-  Scene s = MakeScene(aar_sim::DefaultBoomPose());
-  const TriangleMesh receiver = aar_geometry::LoadMesh(kSim + "/models/receiver.obj");
-  aar_registration::ReferenceModelOptions sampling;
+  Scene s = MakeScene(aar_description::DefaultBoomPose());
+  const TriangleMesh receiver = aar_geometry::LoadMesh(kModels + "/receiver.obj");
+  aar_geometry::ReferenceModelOptions sampling;
   sampling.points_per_m2 = 150.0;
-  DynamicReference reference(aar_registration::SampleReceiver(receiver, sampling), receiver);
+  DynamicReference reference(aar_geometry::SampleReceiver(receiver, sampling), receiver);
   const Eigen::Isometry3d T_tanker_receiver =
       aar_geometry::MakeTransform({-35.0, 0.0, -10.19}, {0.0, -2.0 * M_PI / 180.0, 0.0});
   const auto without = reference.Build(T_tanker_receiver, s.eyes[0], s.eyes[1]);

@@ -2,15 +2,15 @@
 
 #include <filesystem>
 
+#include <aar_description/boom_model.h>
 #include <aar_geometry/adjacency.h>
 #include <aar_geometry/mesh_io.h>
+#include <aar_geometry/pose.h>
+#include <aar_geometry/receiver_reference.h>
 #include <aar_geometry/robot_model.h>
 #include <aar_geometry/surface_sampling.h>
 #include <aar_geometry/weld.h>
-#include <aar_registration/reference_model.h>
-#include <aar_sim/boom_model.h>
-#include <aar_sim/camera.h>
-#include <aar_sim/flight_path.h>
+#include <ros/package.h>
 
 #include "aar_occlusion/boom.h"
 
@@ -20,35 +20,34 @@ namespace {
 // Receiver samples at a pose, classified by the boom parts' shadow volumes from both cameras,
 // agree with an independent Embree ray cast against the same parts, on points farther than 1 cm
 // from every shadow boundary.
-void CheckAgainstRayCast(const aar_sim::BoomPose& boom_pose,
-                         const aar_sim::FlightPathRow& receiver_row, double min_hidden_fraction) {
-  const std::string sim = AAR_SIM_SOURCE_DIR;
+void CheckAgainstRayCast(const aar_description::BoomPose& boom_pose,
+                         const Eigen::Isometry3d& T_tanker_receiver, double min_hidden_fraction) {
+  const std::string models = ros::package::getPath("aar_description") + "/models";
   aar_geometry::RobotModelOptions urdf;
-  urdf.package_paths = {std::filesystem::path(sim).parent_path().string()};
-  const auto model = aar_geometry::LoadRobotModel(sim + "/models/boom.urdf", urdf);
-  const auto poses = aar_geometry::ComputeLinkPoses(model, aar_sim::BoomJointPositions(boom_pose));
+  urdf.package_paths = {models + "/../.."};
+  const auto model = aar_geometry::LoadRobotModel(models + "/boom.urdf", urdf);
+  const auto poses =
+      aar_geometry::ComputeLinkPoses(model, aar_description::BoomJointPositions(boom_pose));
   const aar_geometry::TriangleMesh collision =
       aar_geometry::RobotMesh(model, poses, aar_geometry::GeometryKind::kCollision);
-  const aar_sim::StereoRig rig =
-      aar_sim::MakeStereoRig(aar_sim::CameraIntrinsics::FromHorizontalFov(1280, 960, 60.0), 0.5);
-  const Eigen::Vector3d eyes[2] = {rig.T_tanker_left_optical.translation(),
-                                   rig.T_tanker_right_optical().translation()};
+  // The default rig: centre (-20, 1, -3) m looking aft, 0.5 m baseline (config/sim.yaml).
+  const Eigen::Vector3d eyes[2] = {{-20.0, 0.75, -3.0}, {-20.0, 1.25, -3.0}};
 
   BoomOcclusion boom(LoadBoomParts(model));
   boom.Update(poses, eyes[0], eyes[1]);
 
-  const auto receiver = aar_geometry::LoadMesh(sim + "/models/receiver.obj");
+  const auto receiver = aar_geometry::LoadMesh(models + "/receiver.obj");
   aar_geometry::SurfaceSamplingOptions sampling;
   sampling.num_points = 24000;
   sampling.seed = 5;
   const auto samples = aar_geometry::SampleSurface(receiver, sampling);
   std::vector<Eigen::Vector3d> points;
-  for (const auto& p : samples.points) points.push_back(receiver_row.T_tanker_receiver() * p);
+  for (const auto& p : samples.points) points.push_back(T_tanker_receiver * p);
   const std::vector<Visibility> by_volumes = boom.Classify(points);
 
   // Oracle: a ray from each eye to the point, against the boom parts only (the receiver's own
   // self-occlusion is not the boom's).
-  const aar_registration::VisibilityTester rays(collision);
+  const aar_geometry::VisibilityTester rays(collision);
   std::vector<Eigen::Vector3d> no_normal(points.size(), Eigen::Vector3d::Zero());
   int compared = 0, agree = 0, hidden = 0;
   std::vector<bool> seen[2];
@@ -80,25 +79,25 @@ void CheckAgainstRayCast(const aar_sim::BoomPose& boom_pose,
       "points agree "
       "(%.3f%%), %d hidden from at least one camera\n",
       boom_pose.pitch * 180 / M_PI, boom_pose.roll * 180 / M_PI, boom_pose.extension,
-      receiver_row.position_m.norm(), agree, compared, 100.0 * agree / compared, hidden);
+      T_tanker_receiver.translation().norm(), agree, compared, 100.0 * agree / compared, hidden);
   EXPECT_GE(compared, 20000);
   EXPECT_GE(static_cast<double>(agree) / compared, 0.995);
   EXPECT_GE(static_cast<double>(hidden) / compared,
             min_hidden_fraction);  // the boom really occludes
 }
 
-aar_sim::FlightPathRow Row(double x, double y, double z) {
-  aar_sim::FlightPathRow row;
-  row.position_m = {x, y, z};
-  row.rpy = {0.0, -2.0 * M_PI / 180.0, 0.0};
-  return row;
+Eigen::Isometry3d Row(double x, double y, double z) {
+  return aar_geometry::MakeTransform({x, y, z}, {0.0, -2.0 * M_PI / 180.0, 0.0});
 }
 
 TEST(Oracle, ShadowVolumesAgreeWithRayCasting) {
-  CheckAgainstRayCast(aar_sim::DefaultBoomPose(), Row(-90.0, 0.5, -24.0), 0.001);  // region A
-  CheckAgainstRayCast(aar_sim::DefaultBoomPose(), Row(-35.0, 0.0, -10.19), 0.05);  // contact
-  CheckAgainstRayCast(aar_sim::DefaultBoomPose(), Row(-50.0, 0.5, -14.0), 0.01);   // region B
-  aar_sim::BoomPose swung{36.0 * M_PI / 180.0, -8.0 * M_PI / 180.0, 3.0};
+  CheckAgainstRayCast(aar_description::DefaultBoomPose(), Row(-90.0, 0.5, -24.0),
+                      0.001);  // region A
+  CheckAgainstRayCast(aar_description::DefaultBoomPose(), Row(-35.0, 0.0, -10.19),
+                      0.05);  // contact
+  CheckAgainstRayCast(aar_description::DefaultBoomPose(), Row(-50.0, 0.5, -14.0),
+                      0.01);  // region B
+  aar_description::BoomPose swung{36.0 * M_PI / 180.0, -8.0 * M_PI / 180.0, 3.0};
   CheckAgainstRayCast(swung, Row(-38.0, -1.0, -12.0), 0.01);
 }
 

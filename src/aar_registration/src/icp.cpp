@@ -42,13 +42,6 @@ pcl::PointCloud<pcl::PointXYZ>::Ptr ToPcl(const std::vector<Eigen::Vector3d>& po
   return cloud;
 }
 
-Eigen::Vector3d Centroid(const std::vector<Eigen::Vector3d>& points) {
-  if (points.empty()) throw std::invalid_argument("centroid of an empty cloud");
-  Eigen::Vector3d c = Eigen::Vector3d::Zero();
-  for (const auto& p : points) c += p;
-  return c / static_cast<double>(points.size());
-}
-
 }  // namespace
 
 struct Icp::Target {
@@ -214,13 +207,6 @@ RegistrationResult Icp::Align(const std::vector<Eigen::Vector3d>& source,
   match();                   // statistics of the transform returned
   result.converged = false;  // out of iterations while still improving
   return result;
-}
-
-Eigen::Isometry3d CentroidSeed(const std::vector<Eigen::Vector3d>& sensed_in_tanker,
-                               const std::vector<Eigen::Vector3d>& reference_in_receiver) {
-  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();  // the tanker's orientation
-  T.translation() = Centroid(sensed_in_tanker) - Centroid(reference_in_receiver);
-  return T;
 }
 
 }  // namespace aar_registration

@@ -6,9 +6,11 @@
 
 #include <aar_geometry/pose.h>
 
-#include "aar_sim/receiver_model.h"
+#include <aar_description/receiver_model.h>
 
 namespace aar_sim {
+
+using aar_description::ReceptacleInReceiver;
 namespace {
 
 using aar_geometry::DegToRad;

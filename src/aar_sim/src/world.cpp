@@ -2,9 +2,11 @@
 
 #include <aar_geometry/mesh_io.h>
 
-#include "aar_sim/boom_model.h"
+#include <aar_description/boom_model.h>
 
 namespace aar_sim {
+
+using aar_description::BoomJointPositions;
 namespace {
 
 RendererOptions WithRigIntrinsics(RendererOptions renderer, const StereoRig& rig) {

@@ -5,14 +5,18 @@
 #include <aar_geometry/primitives.h>
 #include <aar_geometry/weld.h>
 
-#include "aar_sim/boom_model.h"
+#include <aar_description/boom_model.h>
+#include <ros/package.h>
+
 #include "aar_sim/world.h"
 
 namespace aar_sim {
+
+using aar_description::DefaultBoomPose;
 namespace {
 
 WorldOptions TestWorld(bool boom_visible, double noise = 0.0) {
-  WorldOptions o = DefaultWorldOptions(std::string(AAR_SIM_SOURCE_DIR) + "/models");
+  WorldOptions o = DefaultWorldOptions(ros::package::getPath("aar_description") + "/models");
   o.rig = MakeStereoRig(CameraIntrinsics::FromHorizontalFov(640, 480, 60.0), 0.5);
   o.renderer.noise_stddev = noise;
   o.boom_visible = boom_visible;
@@ -89,7 +93,7 @@ void CheckProjection(World& world, const FlightPathRow& row, int min_checked) {
 }
 
 TEST(Renderer, LabelMatchesProjectedVerticesNearAndFar) {
-  WorldOptions options = DefaultWorldOptions(std::string(AAR_SIM_SOURCE_DIR) + "/models");
+  WorldOptions options = DefaultWorldOptions(ros::package::getPath("aar_description") + "/models");
   options.boom_visible = false;
   World world(options);
   CheckProjection(world, Receiver(-36.0, 0.0, -10.5, 0.0), 5000);

@@ -1,22 +1,27 @@
 // bench_render: stereo pairs rendered per second at the configured resolution, along the default
 // approach (far, mid and near frames), images only and with label + depth read back.
-//   bench_render [FLIGHT_PATH] [PAIRS_PER_POINT]
+//   bench_render FLIGHT_PATH [PAIRS_PER_POINT]
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <iostream>
 #include <string>
 
-#include "aar_sim/boom_model.h"
+#include <aar_description/boom_model.h>
+#include <ros/package.h>
+
 #include "aar_sim/world.h"
 
 int main(int argc, char** argv) {
-  const std::string path_file = argc > 1 ? argv[1]
-                                         : std::string(AAR_SIM_SOURCE_DIR) +
-                                               "/../../config/flight_paths/approach_default.csv";
+  if (argc < 2) {
+    std::cerr << "usage: bench_render FLIGHT_PATH [PAIRS_PER_POINT]\n";
+    return 2;
+  }
+  const std::string path_file = argv[1];
   const int pairs = argc > 2 ? std::stoi(argv[2]) : 20;
   try {
     aar_sim::WorldOptions options =
-        aar_sim::DefaultWorldOptions(std::string(AAR_SIM_SOURCE_DIR) + "/models");
+        aar_sim::DefaultWorldOptions(ros::package::getPath("aar_description") + "/models");
     options.renderer.noise_stddev =
         std::getenv("AAR_BENCH_NOISE") ? std::stod(std::getenv("AAR_BENCH_NOISE")) : 2.0;
     aar_sim::World world(options);
@@ -30,10 +35,11 @@ int main(int argc, char** argv) {
       const auto row = path.At(t);
       double rate[2];
       for (int extra = 0; extra < 2; ++extra) {
-        world.Render(row, aar_sim::DefaultBoomPose(), 0, extra, extra);  // warm-up (shader JIT)
+        world.Render(row, aar_description::DefaultBoomPose(), 0, extra,
+                     extra);  // warm-up (shader JIT)
         const auto start = std::chrono::steady_clock::now();
         for (int i = 0; i < pairs; ++i)
-          world.Render(row, aar_sim::DefaultBoomPose(), i, extra, extra);
+          world.Render(row, aar_description::DefaultBoomPose(), i, extra, extra);
         rate[extra] =
             pairs / std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       }

@@ -3,7 +3,9 @@
 #include <fstream>
 #include <iostream>
 
-#include "aar_sim/boom_model.h"
+#include <aar_description/boom_model.h>
+#include <ros/package.h>
+
 #include "aar_sim/world.h"
 
 namespace {
@@ -23,13 +25,13 @@ int main(int argc, char** argv) {
   }
   try {
     aar_sim::WorldOptions options =
-        aar_sim::DefaultWorldOptions(std::string(AAR_SIM_SOURCE_DIR) + "/models");
+        aar_sim::DefaultWorldOptions(ros::package::getPath("aar_description") + "/models");
     options.boom_visible = !(argc > 4 && std::string(argv[4]) == "--no-boom");
     aar_sim::World world(options);
     const auto path = aar_sim::FlightPath::Load(argv[1]);
     const auto row = path.At(std::stod(argv[2]));
     const auto frame =
-        world.Render(row, row.boom.value_or(aar_sim::DefaultBoomPose()), 0, true, false);
+        world.Render(row, row.boom.value_or(aar_description::DefaultBoomPose()), 0, true, false);
     const std::string prefix = argv[3];
     WritePgm(prefix + "_left.pgm", frame.left.image);
     WritePgm(prefix + "_right.pgm", frame.right.image);

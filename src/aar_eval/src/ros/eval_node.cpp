@@ -1,208 +1,123 @@
-// eval_node: pairs each pose estimate with the truth at its stamp, publishes /aar/pose_error, and
-// writes every frame (estimated or missed) to ~output_dir/frames.csv as it settles.
-#include <cmath>
-#include <deque>
+#include "aar_eval/ros/eval_node.h"
+
 #include <filesystem>
-#include <fstream>
-#include <iomanip>
 #include <iostream>
-#include <map>
-#include <mutex>
-#include <set>
-#include <sstream>
 
 #include <aar_msgs/PoseError.h>
-#include <aar_msgs/PoseEstimate.h>
-#include <ros/ros.h>
-#include <sensor_msgs/CameraInfo.h>
-#include <tf2_eigen/tf2_eigen.h>
-#include <tf2_ros/transform_listener.h>
+#include <aar_ros_common/param_reader.h>
+#include <aar_ros_common/tf_bridge.h>
 
-#include "aar_eval/tables.h"
+#include "aar_eval/ros/conversions.h"
 
-namespace {
+namespace aar_eval {
 
-using aar_eval::FrameRecord;
-
-class EvalNode {
- public:
-  EvalNode(ros::NodeHandle nh, ros::NodeHandle pnh)
-      : nh_(nh), tf_(ros::Duration(120.0)), listener_(tf_) {
-    std::string output_dir;
-    if (!pnh.getParam("output_dir", output_dir) || output_dir.empty()) {
-      throw std::invalid_argument("required parameter " + pnh.resolveName("output_dir") +
-                                  " is not set");
-    }
-    // The simulator's stamp offset (stamp = offset + path time), read where it is configured.
-    if (!pnh.getParam("stamp_offset", stamp_offset_))
-      nh.param("/sim/stamp_offset", stamp_offset_, 1.0);
-    pnh.param("expected_frames", expected_frames_, 0);
-    pnh.param<std::string>("truth_frame", truth_frame_, "receiver_truth");
-    pnh.param<std::string>("tanker_frame", tanker_frame_, "tanker");
-    std::filesystem::create_directories(output_dir);
-    path_ = output_dir + "/frames.csv";
-    out_.open(path_);
-    if (!out_) throw std::runtime_error(path_ + ": cannot be written");
-    out_ << aar_eval::FrameCsvHeader() << "\n" << std::flush;
-    error_pub_ = nh_.advertise<aar_msgs::PoseError>("aar/pose_error", 10);
-    frame_sub_ = nh_.subscribe("stereo/left/camera_info", 10, &EvalNode::OnFrame, this);
-    estimate_sub_ = nh_.subscribe("aar/pose_estimate", 10, &EvalNode::OnEstimate, this);
-  }
-
-  ~EvalNode() {
-    frame_sub_.shutdown();
-    estimate_sub_.shutdown();
-    std::lock_guard<std::mutex> lock(mutex_);
-    Settle(ros::TIME_MAX);  // the run is over: what has no estimate now is a miss
-    // stdout, not rosconsole: it drops messages once ROS has shut down.
-    const auto stats = aar_eval::ComputeRegionStats(records_);
-    for (const auto& [region, s] : stats) {
-      std::cout << "eval: region " << region << ": " << s.estimated << " of " << s.frames
-                << " frames estimated; mean |x| " << s.mean_abs[0] << " m, |yaw| " << s.mean_abs[5]
-                << " deg\n";
-    }
-    if (!estimates_.empty()) {
-      std::cout << "eval: " << estimates_.size()
-                << " estimates for frames never announced were left out\n";
-    }
-    if (no_truth_ > 0)
-      std::cout << "eval: " << no_truth_ << " frames had no truth and were left out\n";
-    std::cout << "eval: wrote " << records_.size() << " frames to " << path_ << std::endl;
-  }
-
- private:
-  void OnFrame(const sensor_msgs::CameraInfo::ConstPtr& info) {
-    std::lock_guard<std::mutex> lock(mutex_);
-    if (!frames_.empty() && info->header.stamp <= frames_.back()) {
-      if (info->header.stamp < frames_.back()) {
-        ROS_WARN_STREAM("eval: frame " << info->header.stamp << " is older than the last one ("
-                                       << frames_.back() << "): ignored; did the clock jump?");
-      }
-      return;  // the same frame again
-    }
-    frames_.push_back(info->header.stamp);
-    // The frame before the previous one is settled: lockstep publishes a frame only after the
-    // estimate of the one before (or a timeout); one frame of grace covers message ordering.
-    if (frames_.size() >= 3) Settle(frames_[frames_.size() - 2]);
-  }
-
-  void OnEstimate(const aar_msgs::PoseEstimate::ConstPtr& estimate) {
-    std::lock_guard<std::mutex> lock(mutex_);
-    if (settled_.count(estimate->header.stamp)) {
-      ROS_WARN_STREAM("eval: estimate for " << estimate->header.stamp
-                                            << " came after its frame was settled: ignored");
-      return;
-    }
-    estimates_[estimate->header.stamp] = estimate;
-  }
-
-  // Records every frame older than `before`, estimated or missed, in stamp order.
-  void Settle(const ros::Time& before) {
-    while (!frames_.empty() && frames_.front() < before) {
-      const ros::Time stamp = frames_.front();
-      frames_.pop_front();
-      settled_.insert(stamp);
-      FrameRecord f;
-      f.t = stamp.toSec() - stamp_offset_;
-      Eigen::Isometry3d truth;
-      try {
-        truth = tf2::transformToEigen(tf_.lookupTransform(tanker_frame_, truth_frame_, stamp));
-      } catch (const tf2::TransformException& e) {
-        ROS_ERROR_STREAM("eval: no truth for frame " << stamp << " (" << e.what()
-                                                     << "); frame left out");
-        estimates_.erase(stamp);
-        ++no_truth_;
-        continue;
-      }
-      f.range_m = truth.translation().norm();
-      f.region = aar_geometry::RegionOfRange(f.range_m);
-      const auto it = estimates_.find(stamp);
-      if (it != estimates_.end() && !it->second->valid)
-        estimates_.erase(it);  // no pose: a miss
-      else if (it != estimates_.end()) {
-        const auto& est = *it->second;
-        Eigen::Isometry3d estimated;
-        tf2::fromMsg(est.pose, estimated);
-        const aar_geometry::PoseError e = aar_geometry::ComputePoseError(truth, estimated);
-        f.estimated = true;
-        f.error = {e.position_m.x(),
-                   e.position_m.y(),
-                   e.position_m.z(),
-                   aar_geometry::RadToDeg(e.orientation_rad.roll),
-                   aar_geometry::RadToDeg(e.orientation_rad.pitch),
-                   aar_geometry::RadToDeg(e.orientation_rad.yaw)};
-        f.converged = est.converged;
-        f.iterations = static_cast<int>(est.iterations);
-        f.rms = est.rms;
-        f.registration_ms = est.registration_ms;
-        aar_msgs::PoseError msg;
-        msg.header = est.header;
-        msg.region = static_cast<uint8_t>(f.region);
-        msg.range_m = f.range_m;
-        msg.x_m = f.error[0], msg.y_m = f.error[1], msg.z_m = f.error[2];
-        msg.roll_deg = f.error[3], msg.pitch_deg = f.error[4], msg.yaw_deg = f.error[5];
-        error_pub_.publish(msg);
-        estimates_.erase(it);
-      }
-      records_.push_back(f);
-      out_ << aar_eval::FrameCsvRow(f) << "\n" << std::flush;
-      const int k = static_cast<int>(records_.size());
-      const double position =
-          std::sqrt(f.error[0] * f.error[0] + f.error[1] * f.error[1] + f.error[2] * f.error[2]);
-      if (f.estimated) position_sum_ += position, ++estimated_;
-      if (k % 10 == 1 || !f.estimated) {
-        std::ostringstream line;
-        line << "eval: frame " << k
-             << (expected_frames_ > 0 ? " of " + std::to_string(expected_frames_) : "") << ", "
-             << std::fixed << std::setprecision(1) << f.range_m << " m (region "
-             << aar_geometry::RegionName(f.region) << "): " << std::setprecision(3);
-        if (f.estimated)
-          line << "error " << position << " m";
-        else
-          line << "MISSED";
-        if (estimated_ > 0)
-          line << "; running mean " << position_sum_ / estimated_ << " m over " << estimated_
-               << " estimates";
-        ROS_INFO_STREAM(line.str());
-      }
-    }
-  }
-
-  ros::NodeHandle nh_;
-  tf2_ros::Buffer tf_;
-  tf2_ros::TransformListener listener_;
-  ros::Publisher error_pub_;
-  ros::Subscriber frame_sub_, estimate_sub_;
-  std::mutex mutex_;
-  std::deque<ros::Time> frames_;
-  std::set<ros::Time> settled_;
-  std::map<ros::Time, aar_msgs::PoseEstimate::ConstPtr> estimates_;
-  std::vector<FrameRecord> records_;
-  std::ofstream out_;
-  std::string path_, truth_frame_, tanker_frame_;
-  double stamp_offset_ = 1.0;
-  int expected_frames_ = 0;
-  int no_truth_ = 0;
-  double position_sum_ = 0.0;  // [m] running mean of the position error's norm
-  int estimated_ = 0;
-};
-
-}  // namespace
-
-int main(int argc, char** argv) {
-  ros::init(argc, argv, "eval");
-  ros::NodeHandle nh, pnh("~");
-  std::unique_ptr<EvalNode> node;
-  try {
-    node = std::make_unique<EvalNode>(nh, pnh);
-  } catch (const std::exception& e) {
-    ROS_FATAL_STREAM("eval: " << e.what());
-    return 1;
-  }
-  ros::AsyncSpinner spinner(2);
-  spinner.start();
-  ros::waitForShutdown();
-  spinner.stop();
-  node.reset();  // settles the last frames and writes the summary
-  return 0;
+EvalNodeOptions LoadEvalNodeOptions(const ros::NodeHandle& nh) {
+  EvalNodeOptions o;
+  aar_ros_common::ParamReader params(nh);
+  o.output_dir = params.Required("output_dir", "where frames.csv goes");
+  // The simulator's stamp offset, read where it is configured unless given here.
+  double sim_offset = o.stamp_offset;
+  nh.param("/sim/stamp_offset", sim_offset, sim_offset);
+  o.stamp_offset = params.Get("stamp_offset", sim_offset);
+  o.expected_frames = params.Get("expected_frames", o.expected_frames);
+  o.truth_frame = params.Get("truth_frame", o.truth_frame);
+  o.tanker_frame = params.Get("tanker_frame", o.tanker_frame);
+  params.RejectUnknown();
+  return o;
 }
+
+EvalNode::EvalNode(ros::NodeHandle nh, const EvalNodeOptions& options)
+    : nh_(nh),
+      options_(options),
+      tf_(ros::Duration(120.0)),
+      listener_(tf_),
+      evaluator_(options.stamp_offset, options.expected_frames) {
+  std::filesystem::create_directories(options_.output_dir);
+  path_ = options_.output_dir + "/frames.csv";
+  out_.open(path_);
+  if (!out_) throw std::runtime_error(path_ + ": cannot be written");
+  out_ << FrameCsvHeader() << "\n" << std::flush;
+  error_pub_ = nh_.advertise<aar_msgs::PoseError>("aar/pose_error", 10);
+  frame_sub_ = nh_.subscribe("stereo/left/camera_info", 10, &EvalNode::OnFrame, this);
+  estimate_sub_ = nh_.subscribe("aar/pose_estimate", 10, &EvalNode::OnEstimate, this);
+}
+
+EvalNode::~EvalNode() {
+  frame_sub_.shutdown();
+  estimate_sub_.shutdown();
+  std::lock_guard<std::mutex> lock(mutex_);
+  // The run is over: what has no estimate now is a miss.
+  Record(evaluator_.SettleAll(
+      [this](int64_t stamp_ns, std::string* error) { return Truth(stamp_ns, error); }));
+  // stdout, not rosconsole: it drops messages once ROS has shut down.
+  for (const auto& [region, s] : ComputeRegionStats(evaluator_.records())) {
+    std::cout << "eval: region " << region << ": " << s.estimated << " of " << s.frames
+              << " frames estimated; mean |x| " << s.mean_abs[0] << " m, |yaw| " << s.mean_abs[5]
+              << " deg\n";
+  }
+  if (evaluator_.estimates_without_frame() > 0) {
+    std::cout << "eval: " << evaluator_.estimates_without_frame()
+              << " estimates for frames never announced were left out\n";
+  }
+  if (evaluator_.frames_without_truth() > 0) {
+    std::cout << "eval: " << evaluator_.frames_without_truth()
+              << " frames had no truth and were left out\n";
+  }
+  std::cout << "eval: wrote " << evaluator_.records().size() << " frames to " << path_ << std::endl;
+}
+
+std::optional<Eigen::Isometry3d> EvalNode::Truth(int64_t stamp_ns, std::string* error) const {
+  // No wait: a frame settles after later frames came, and their truth with them.
+  return aar_ros_common::LookupTransform(tf_, options_.tanker_frame, options_.truth_frame,
+                                         ToRosTime(stamp_ns), 0.0, "the frame's stamp", error);
+}
+
+void EvalNode::OnFrame(const sensor_msgs::CameraInfo::ConstPtr& info) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  const int64_t newest = evaluator_.newest_frame_ns();
+  switch (evaluator_.AddFrame(ToNs(info->header.stamp))) {
+    case Evaluator::FrameStatus::kOlder:
+      ROS_WARN_STREAM("eval: frame " << info->header.stamp << " is older than the last one ("
+                                     << ToRosTime(newest) << "): ignored; did the clock jump?");
+      return;
+    case Evaluator::FrameStatus::kRepeat:
+      return;  // the same frame again
+    case Evaluator::FrameStatus::kNew:
+      break;
+  }
+  Record(evaluator_.SettleReady(
+      [this](int64_t stamp_ns, std::string* error) { return Truth(stamp_ns, error); }));
+}
+
+void EvalNode::OnEstimate(const aar_msgs::PoseEstimate::ConstPtr& estimate) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  const int64_t stamp = ToNs(estimate->header.stamp);
+  if (!evaluator_.AddEstimate(stamp, ToEstimate(*estimate))) {
+    ROS_WARN_STREAM("eval: estimate for " << estimate->header.stamp
+                                          << " came after its frame was settled: ignored");
+    return;
+  }
+  estimate_headers_[stamp] = estimate->header;
+}
+
+void EvalNode::Record(const std::vector<SettledFrame>& settled) {
+  for (const SettledFrame& s : settled) {
+    const auto header = estimate_headers_.find(s.stamp_ns);
+    std_msgs::Header estimate_header;
+    if (header != estimate_headers_.end()) {
+      estimate_header = header->second;
+      estimate_headers_.erase(header);
+    }
+    if (!s.no_truth.empty()) {
+      ROS_ERROR_STREAM("eval: no truth for frame " << ToRosTime(s.stamp_ns) << " (" << s.no_truth
+                                                   << "); frame left out");
+      continue;
+    }
+    const FrameRecord& f = s.record;
+    if (f.estimated) error_pub_.publish(ToPoseErrorMsg(f, estimate_header));
+    out_ << FrameCsvRow(f) << "\n" << std::flush;
+    if (!s.progress.empty()) ROS_INFO_STREAM(s.progress);
+  }
+}
+
+}  // namespace aar_eval

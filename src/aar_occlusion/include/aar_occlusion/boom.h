@@ -11,7 +11,7 @@
 
 #include "aar_occlusion/volumes.h"
 
-namespace aar_registration {
+namespace aar_geometry {
 class VisibilityTester;
 }
 
@@ -118,7 +118,7 @@ class BoomOcclusion {
   // The posed grown (or outline) boom for the ray tests.
   struct RayTarget {
     std::vector<Eigen::Matrix3d> triangles;  // columns: v0, v1 - v0, v2 - v0
-    std::unique_ptr<aar_registration::VisibilityTester> bvh;
+    std::unique_ptr<aar_geometry::VisibilityTester> bvh;
     bool HitsBrute(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction) const;
     void Build(const aar_geometry::TriangleMesh& mesh);
   };

@@ -3,8 +3,8 @@
 #include <memory>
 #include <vector>
 
+#include <aar_geometry/receiver_reference.h>
 #include <aar_geometry/triangle_mesh.h>
-#include <aar_registration/reference_model.h>
 
 #include "aar_occlusion/boom.h"
 
@@ -20,18 +20,17 @@ struct DynamicReferenceOptions {
 // The reference model of one frame (thesis 3.8): the samples some eye sees past the receiver
 // itself, each with its class through the boom's shadow volumes.
 struct DynamicReferenceResult {
-  aar_registration::ReferenceCloud cloud;  // receiver frame
-  std::vector<Visibility> classes;         // per point of cloud
-  size_t both = 0;                         // points seen by both eyes: what ICP registers to
-  bool reshelled = false;                  // self-occlusion recomputed this frame
+  aar_geometry::ReferenceCloud cloud;  // receiver frame
+  std::vector<Visibility> classes;     // per point of cloud
+  size_t both = 0;                     // points seen by both eyes: what ICP registers to
+  bool reshelled = false;              // self-occlusion recomputed this frame
 };
 
 class DynamicReference {
  public:
   // `dense`: samples of `receiver`, both in the receiver frame. Throws std::invalid_argument for
   // an empty cloud.
-  DynamicReference(aar_registration::ReferenceCloud dense,
-                   const aar_geometry::TriangleMesh& receiver,
+  DynamicReference(aar_geometry::ReferenceCloud dense, const aar_geometry::TriangleMesh& receiver,
                    const DynamicReferenceOptions& options = {});
   ~DynamicReference();
 
@@ -51,13 +50,13 @@ class DynamicReference {
                                const Eigen::Vector3d& left_eye, const Eigen::Vector3d& right_eye,
                                const BoomOcclusion* boom);
 
-  aar_registration::ReferenceCloud dense_;
+  aar_geometry::ReferenceCloud dense_;
   DynamicReferenceOptions options_;
-  std::unique_ptr<aar_registration::VisibilityTester> receiver_;
+  std::unique_ptr<aar_geometry::VisibilityTester> receiver_;
   bool shelled_ = false;
-  Eigen::Vector3d shelled_eyes_[2];         // receiver frame
-  aar_registration::ReferenceCloud shell_;  // samples some eye sees past the receiver itself
-  std::vector<bool> self_visible_[2];       // per point of shell_
+  Eigen::Vector3d shelled_eyes_[2];     // receiver frame
+  aar_geometry::ReferenceCloud shell_;  // samples some eye sees past the receiver itself
+  std::vector<bool> self_visible_[2];   // per point of shell_
 };
 
 }  // namespace aar_occlusion

@@ -2,6 +2,8 @@
 
 #include <cstring>
 
+#include <sensor_msgs/point_cloud2_iterator.h>
+
 namespace aar_occlusion {
 namespace {
 
@@ -14,41 +16,27 @@ sensor_msgs::PointCloud2 ToCloud(const DynamicReferenceResult& reference,
                                  const std_msgs::Header& header) {
   sensor_msgs::PointCloud2 msg;
   msg.header = header;
-  const char* names[] = {"x", "y", "z", "normal_x", "normal_y", "normal_z"};
-  for (uint32_t k = 0; k < 6; ++k) {
-    sensor_msgs::PointField f;
-    f.name = names[k];
-    f.offset = 4 * k;
-    f.datatype = sensor_msgs::PointField::FLOAT32;
-    f.count = 1;
-    msg.fields.push_back(f);
-  }
-  sensor_msgs::PointField visibility;
-  visibility.name = "visibility";
-  visibility.offset = 24;
-  visibility.datatype = sensor_msgs::PointField::UINT8;
-  visibility.count = 1;
-  msg.fields.push_back(visibility);
-  sensor_msgs::PointField rgb;  // rviz's RGB8 colouring, as the thesis's Fig. 17
-  rgb.name = "rgb";
-  rgb.offset = 28;
-  rgb.datatype = sensor_msgs::PointField::FLOAT32;
-  rgb.count = 1;
-  msg.fields.push_back(rgb);
-  msg.point_step = 32;
-  msg.height = 1;
-  msg.width = static_cast<uint32_t>(reference.cloud.size());
-  msg.row_step = msg.point_step * msg.width;
   msg.is_dense = true;
-  msg.data.assign(msg.row_step, 0);
-  for (size_t i = 0; i < reference.cloud.size(); ++i) {
-    uint8_t* p = &msg.data[i * msg.point_step];
+  sensor_msgs::PointCloud2Modifier modifier(msg);
+  // rgb: rviz's RGB8 colouring, as the thesis's Fig. 17.
+  modifier.setPointCloud2Fields(
+      8, "x", 1, sensor_msgs::PointField::FLOAT32, "y", 1, sensor_msgs::PointField::FLOAT32, "z", 1,
+      sensor_msgs::PointField::FLOAT32, "normal_x", 1, sensor_msgs::PointField::FLOAT32, "normal_y",
+      1, sensor_msgs::PointField::FLOAT32, "normal_z", 1, sensor_msgs::PointField::FLOAT32, "rgb",
+      1, sensor_msgs::PointField::FLOAT32, "visibility", 1, sensor_msgs::PointField::UINT8);
+  modifier.resize(reference.cloud.size());
+  sensor_msgs::PointCloud2Iterator<float> x(msg, "x"), nx(msg, "normal_x");
+  sensor_msgs::PointCloud2Iterator<uint8_t> rgb(msg, "rgb"), visibility(msg, "visibility");
+  for (size_t i = 0; i < reference.cloud.size(); ++i, ++x, ++nx, ++rgb, ++visibility) {
     const Eigen::Vector3f point = reference.cloud.points[i].cast<float>();
     const Eigen::Vector3f normal = reference.cloud.normals[i].cast<float>();
-    std::memcpy(p, point.data(), 12);
-    std::memcpy(p + 12, normal.data(), 12);
-    p[24] = static_cast<uint8_t>(reference.classes[i]);
-    std::memcpy(p + 28, &kClassColours[static_cast<int>(reference.classes[i])], 4);
+    for (int k = 0; k < 3; ++k) {
+      x[k] = point[k];  // x, y, z and normal_x, normal_y, normal_z are consecutive
+      nx[k] = normal[k];
+    }
+    const int c = static_cast<int>(reference.classes[i]);
+    *visibility = static_cast<uint8_t>(c);
+    std::memcpy(&rgb[0], &kClassColours[c], 4);
   }
   return msg;
 }

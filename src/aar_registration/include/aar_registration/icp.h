@@ -58,10 +58,4 @@ class Icp {
   std::unique_ptr<Target> target_;
 };
 
-// The thesis's seed for T_tanker_receiver: the tanker's orientation, and a position that puts the
-// reference model's centroid on the sensed points' centroid (points in the tanker and receiver
-// frames). Throws std::invalid_argument for an empty cloud.
-Eigen::Isometry3d CentroidSeed(const std::vector<Eigen::Vector3d>& sensed_in_tanker,
-                               const std::vector<Eigen::Vector3d>& reference_in_receiver);
-
 }  // namespace aar_registration

@@ -4,16 +4,13 @@
 #include <string>
 #include <vector>
 
+#include <aar_description/boom_model.h>
 #include <aar_geometry/pose.h>
 
 namespace aar_sim {
 
-// Boom joint positions; the CSV's optional boom columns.
-struct BoomPose {
-  double pitch = 0.0;      // [rad] below horizontal (CSV: boom_pitch, deg)
-  double roll = 0.0;       // [rad] lateral swing about the tanker's x axis (CSV: boom_roll, deg)
-  double extension = 0.0;  // [m] telescope extension (CSV: boom_extension)
-};
+// Boom joint positions (aar_description's): the CSV's optional boom columns.
+using aar_description::BoomPose;
 
 // One row of a flight path: the receiver origin in the tanker frame.
 struct FlightPathRow {

@@ -20,8 +20,8 @@ struct WorldOptions {
   bool boom_visible = true;
 };
 
-// The shipped world: receiver.obj and boom.urdf from `models_dir` (aar_sim's models/, whose
-// parent's parent holds the aar_sim package for package:// look-ups) and the default rig
+// The shipped world: receiver.obj and boom.urdf from `models_dir` (aar_description's models/,
+// whose parent's parent holds aar_description for package:// look-ups) and the default rig
 // (1280x960, 60 deg, 0.5 m baseline, DESIGN.md mount). Renderer options stay at their defaults.
 WorldOptions DefaultWorldOptions(const std::string& models_dir);
 

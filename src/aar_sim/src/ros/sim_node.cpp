@@ -1,95 +1,68 @@
 #include "aar_sim/ros/sim_node.h"
 
-#include <set>
+#include <aar_ros_common/markers.h>
+#include <aar_ros_common/param_reader.h>
 
 #include <ros/package.h>
 #include <rosgraph_msgs/Clock.h>
 #include <sensor_msgs/JointState.h>
 #include <visualization_msgs/Marker.h>
 
-#include <filesystem>
-
-#include "aar_sim/boom_model.h"
+#include <aar_description/boom_model.h>
 #include "aar_sim/ros/conversions.h"
 
 namespace aar_sim {
-namespace {
 
-template <typename T>
-T Param(const ros::NodeHandle& nh, const std::string& name, const T& fallback,
-        std::set<std::string>& known) {
-  known.insert(nh.resolveName(name));
-  T value = fallback;
-  if (nh.hasParam(name) && !nh.getParam(name, value)) {
-    throw std::invalid_argument("parameter " + nh.resolveName(name) + " has the wrong type");
-  }
-  return value;
-}
-
-void Require(bool ok, const std::string& what) {
-  if (!ok) throw std::invalid_argument(what);
-}
-
-}  // namespace
+using aar_description::BoomJointPositions;
+using aar_description::DefaultBoomPose;
 
 SimNodeOptions LoadSimNodeOptions(const ros::NodeHandle& nh) {
   SimNodeOptions o;
-  std::set<std::string> known;
-  known.insert(nh.resolveName("robot_description"));  // tolerated: some launch files put it here
-  if (!nh.getParam("flight_path", o.flight_path) || o.flight_path.empty()) {
-    throw std::invalid_argument("required parameter " + nh.resolveName("flight_path") +
-                                " (a flight-path CSV) is not set");
-  }
-  known.insert(nh.resolveName("flight_path"));
-  const std::string models = ros::package::getPath("aar_sim") + "/models";
-  o.world.receiver_mesh = Param<std::string>(nh, "receiver_mesh", models + "/receiver.obj", known);
-  o.world.boom_urdf = Param<std::string>(nh, "boom_urdf", models + "/boom.urdf", known);
-  o.world.boom_visible = Param(nh, "boom", true, known);
+  aar_ros_common::ParamReader params(nh);
+  params.Allow("robot_description");  // tolerated: some launch files put it here
+  o.flight_path = params.Required("flight_path", "a flight-path CSV");
+  const std::string models = ros::package::getPath("aar_description") + "/models";
+  o.world.receiver_mesh = params.Get<std::string>("receiver_mesh", models + "/receiver.obj");
+  o.world.boom_urdf = params.Get<std::string>("boom_urdf", models + "/boom.urdf");
+  o.world.boom_visible = params.Get("boom", true);
 
-  const int width = Param(nh, "image_width", 1280, known);
-  const int height = Param(nh, "image_height", 960, known);
-  const double hfov = Param(nh, "hfov_deg", 60.0, known);
-  const double baseline = Param(nh, "baseline", 0.5, known);
-  const Eigen::Vector3d mount(Param(nh, "camera_x", -20.0, known),
-                              Param(nh, "camera_y", 1.0, known),
-                              Param(nh, "camera_z", -3.0, known));
-  const double yaw = Param(nh, "camera_yaw_deg", 180.0, known);
-  const double pitch = Param(nh, "camera_pitch_deg", 25.0, known);
-  Require(width > 0 && height > 0, "image_width and image_height must be positive");
-  Require(hfov > 0.0 && hfov < 180.0, "hfov_deg must be in (0, 180)");
-  Require(baseline > 0.0, "baseline must be positive");
+  const int width = params.Get("image_width", 1280);
+  const int height = params.Get("image_height", 960);
+  const double hfov = params.Get("hfov_deg", 60.0);
+  const double baseline = params.Get("baseline", 0.5);
+  const Eigen::Vector3d mount(params.Get("camera_x", -20.0), params.Get("camera_y", 1.0),
+                              params.Get("camera_z", -3.0));
+  const double yaw = params.Get("camera_yaw_deg", 180.0);
+  const double pitch = params.Get("camera_pitch_deg", 25.0);
+  params.Check(width > 0, "image_width", "must be positive");
+  params.Check(height > 0, "image_height", "must be positive");
+  params.Check(hfov > 0.0 && hfov < 180.0, "hfov_deg", "must be in (0, 180)");
+  params.Check(baseline > 0.0, "baseline", "must be positive");
   o.world.rig = MakeStereoRig(CameraIntrinsics::FromHorizontalFov(width, height, hfov), baseline,
                               mount, yaw, pitch);
 
-  o.world.renderer.noise_stddev = Param(nh, "noise_stddev", 0.0, known);
-  o.world.renderer.noise_seed = static_cast<uint64_t>(Param(nh, "noise_seed", 1, known));
-  o.world.renderer.sky_level = Param(nh, "sky_level", 200.0, known);
-  Require(o.world.renderer.noise_stddev >= 0.0, "noise_stddev must not be negative");
+  o.world.renderer.noise_stddev = params.Get("noise_stddev", 0.0);
+  o.world.renderer.noise_seed = static_cast<uint64_t>(params.Get("noise_seed", 1));
+  o.world.renderer.sky_level = params.Get("sky_level", 200.0);
+  params.Check(o.world.renderer.noise_stddev >= 0.0, "noise_stddev", "must not be negative");
 
-  o.rate = Param(nh, "rate", o.rate, known);
-  o.start_time = Param(nh, "start_time", o.start_time, known);
-  o.max_frames = Param(nh, "frames", o.max_frames, known);
-  o.lockstep = Param(nh, "lockstep", o.lockstep, known);
-  o.lockstep_timeout = Param(nh, "lockstep_timeout", o.lockstep_timeout, known);
-  o.wait_for_subscribers = Param(nh, "wait_for_subscribers", o.lockstep, known);
-  o.start_delay = Param(nh, "start_delay", o.start_delay, known);
-  Require(o.start_delay >= 0.0, "start_delay must not be negative");
-  o.publish_labels = Param(nh, "publish_labels", o.publish_labels, known);
-  o.shutdown_at_end = Param(nh, "shutdown_at_end", o.shutdown_at_end, known);
-  o.stamp_offset = Param(nh, "stamp_offset", o.stamp_offset, known);
-  Require(o.rate > 0.0, "rate must be positive");
-  Require(o.max_frames >= 0, "frames must not be negative");
-  Require(o.lockstep_timeout > 0.0, "lockstep_timeout must be positive");
-  Require(o.stamp_offset > 0.0, "stamp_offset must be positive");
+  o.rate = params.Get("rate", o.rate);
+  o.start_time = params.Get("start_time", o.start_time);
+  o.max_frames = params.Get("frames", o.max_frames);
+  o.lockstep = params.Get("lockstep", o.lockstep);
+  o.lockstep_timeout = params.Get("lockstep_timeout", o.lockstep_timeout);
+  o.wait_for_subscribers = params.Get("wait_for_subscribers", o.lockstep);
+  o.start_delay = params.Get("start_delay", o.start_delay);
+  params.Check(o.start_delay >= 0.0, "start_delay", "must not be negative");
+  o.publish_labels = params.Get("publish_labels", o.publish_labels);
+  o.shutdown_at_end = params.Get("shutdown_at_end", o.shutdown_at_end);
+  o.stamp_offset = params.Get("stamp_offset", o.stamp_offset);
+  params.Check(o.rate > 0.0, "rate", "must be positive");
+  params.Check(o.max_frames >= 0, "frames", "must not be negative");
+  params.Check(o.lockstep_timeout > 0.0, "lockstep_timeout", "must be positive");
+  params.Check(o.stamp_offset > 0.0, "stamp_offset", "must be positive");
 
-  std::vector<std::string> names;
-  nh.getParamNames(names);
-  const std::string prefix = nh.getNamespace() + "/";
-  for (const auto& name : names) {
-    if (name.rfind(prefix, 0) == 0 && !known.count(name)) {
-      throw std::invalid_argument("unknown parameter " + name + " (misspelt?)");
-    }
-  }
+  params.RejectUnknown();
   return o;
 }
 
@@ -121,18 +94,9 @@ SimNode::SimNode(ros::NodeHandle nh, const SimNodeOptions& options)
   }
   // The receiver model at truth, for rviz: latched, locked to the receiver_truth frame.
   marker_pub_ = nh_.advertise<visualization_msgs::Marker>("sim/receiver_model", 1, true);
-  visualization_msgs::Marker marker;
-  marker.header.frame_id = "receiver_truth";
-  marker.ns = "receiver_truth";
-  marker.type = visualization_msgs::Marker::MESH_RESOURCE;
-  marker.mesh_resource =
-      "file://" + std::filesystem::absolute(options_.world.receiver_mesh).string();
-  marker.pose.orientation.w = 1.0;
-  marker.scale.x = marker.scale.y = marker.scale.z = 1.0;
-  marker.color.r = marker.color.g = marker.color.b = 0.8f;
-  marker.color.a = 1.0f;
-  marker.frame_locked = true;
-  marker_pub_.publish(marker);
+  marker_pub_.publish(aar_ros_common::MeshMarker("receiver_truth", "receiver_truth",
+                                                 options_.world.receiver_mesh,
+                                                 aar_ros_common::Rgba(0.8f, 0.8f, 0.8f, 1.0f)));
 
   const ros::Time now(options_.stamp_offset + path_.start_time());
   const StereoRig& rig = options_.world.rig;

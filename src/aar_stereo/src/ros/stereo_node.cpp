@@ -1,6 +1,6 @@
 #include "aar_stereo/ros/stereo_node.h"
 
-#include <set>
+#include <aar_ros_common/param_reader.h>
 
 #include <sensor_msgs/PointCloud2.h>
 #include <stereo_msgs/DisparityImage.h>
@@ -11,24 +11,16 @@ namespace aar_stereo {
 
 StereoNodeOptions LoadStereoNodeOptions(const ros::NodeHandle& nh) {
   StereoNodeOptions o;
-  nh.param("approximate_sync", o.approximate_sync, o.approximate_sync);
-  nh.param("queue_size", o.queue_size, o.queue_size);
-  if (o.queue_size < 1) throw std::invalid_argument("~queue_size must be at least 1");
-  // Everything else in ~ must be a reconfigurable setting: a typo would otherwise be ignored.
-  std::set<std::string> known = {"approximate_sync", "queue_size",
-                                 "diagnostic_period"};  // the last: diagnostic_updater's
-  for (const auto& p : StereoConfig::__getParamDescriptions__()) known.insert(p->name);
-  std::vector<std::string> names;
-  nh.getParamNames(names);
-  const std::string prefix = nh.getNamespace() + "/";
-  for (const auto& name : names) {
-    if (name.rfind(prefix, 0) != 0) continue;
-    const std::string key = name.substr(prefix.size());
-    if (key.find('/') != std::string::npos)
-      continue;  // sub-namespaces (e.g. dynamic_reconfigure's)
-    if (!known.count(key))
-      throw std::invalid_argument("unknown parameter " + name + " (misspelt?)");
-  }
+  aar_ros_common::ParamReader params(nh);
+  o.approximate_sync = params.Get("approximate_sync", o.approximate_sync);
+  o.queue_size = params.Get("queue_size", o.queue_size);
+  params.Check(o.queue_size >= 1, "queue_size", "must be at least 1");
+  // Everything else in ~ must be a reconfigurable setting (dynamic_reconfigure reads those) or
+  // diagnostic_updater's period: a typo would otherwise be ignored.
+  params.Allow("diagnostic_period");
+  for (const auto& p : StereoConfig::__getParamDescriptions__()) params.Allow(p->name);
+  params.AllowSubNamespaces();  // dynamic_reconfigure's own
+  params.RejectUnknown();
   return o;
 }
 
@@ -192,15 +184,7 @@ void StereoNode::OnFrame(const Image::ConstPtr& left, const Info::ConstPtr& left
       last_error_ = e.what();
     }
     // Throttled per reason, not per call site: a new problem is reported at once.
-    const ros::WallTime now = ros::WallTime::now();
-    bool report;
-    {
-      std::lock_guard<std::mutex> stats(stats_mutex_);
-      ros::WallTime& last = last_reported_[e.what()];
-      report = last.isZero() || now - last > ros::WallDuration(5.0);
-      if (report) last = now;
-    }
-    if (report)
+    if (errors_.ShouldLog(e.what()))
       ROS_ERROR_STREAM("stereo: frame " << left->header.stamp << " skipped: " << e.what());
   }
 }

@@ -6,7 +6,8 @@
 #include <optional>
 #include <string>
 
-#include <aar_registration/ros/node_utils.h>
+#include <aar_ros_common/error_throttle.h>
+#include <aar_ros_common/frames.h>
 #include <diagnostic_updater/diagnostic_updater.h>
 #include <ros/ros.h>
 #include <sensor_msgs/PointCloud2.h>
@@ -14,32 +15,17 @@
 #include <tf2_ros/transform_listener.h>
 #include <visualization_msgs/MarkerArray.h>
 
-#include "aar_occlusion/boom.h"
-#include "aar_occlusion/dynamic_reference.h"
+#include "aar_occlusion/occlusion_step.h"
 
 namespace aar_occlusion {
 
 struct OcclusionNodeOptions {
-  CullMethod cull = CullMethod::kVolumes;  // how boom points leave the sensed cloud
-  BoomPartsOptions parts;                  // the cull and silhouette margins
-  BoomOcclusionOptions boom;               // cull_behind_boom: the thesis's whole-ray test
-  bool publish_reference = true;           // the dynamic reference model on aar/reference_cloud
+  OcclusionStepOptions step;                            // culling, margins, the dynamic reference
   std::string robot_description = "robot_description";  // parameter holding the boom's URDF
-  std::string receiver_mesh;                            // default: aar_sim's models/receiver.obj
-  // 127 samples per m^2 (about 9 cm apart, 20k samples): as accurate as 400 on the default
-  // approach (docs/RESULTS.md) at a third of the cost (docs/PERFORMANCE.md).
-  aar_registration::ReferenceModelOptions sampling = [] {
-    aar_registration::ReferenceModelOptions o;
-    o.points_per_m2 = 127.0;
-    return o;
-  }();
-  DynamicReferenceOptions reference;
-  std::string tanker_frame = "tanker";
-  std::string receiver_frame = "receiver";  // the latest estimate: tf tanker -> receiver
-  std::string left_camera_frame = "stereo_left_optical";
-  std::string right_camera_frame = "stereo_right_optical";
-  double tf_timeout = 0.5;        // [s wall] waiting for the cloud's, cameras' and links' tf
-  double estimate_max_age = 1.0;  // [s] an older estimate is not used as the predicted pose
+  std::string receiver_mesh;           // default: aar_description's models/receiver.obj
+  aar_ros_common::StackFrames frames;  // tanker, receiver (estimate), cameras
+  double tf_timeout = 0.5;             // [s wall] waiting for the cloud's, cameras' and links' tf
+  double estimate_max_age = 1.0;       // [s] an older estimate is not used as the predicted pose
   // [s wall] how long to wait for the estimate of the previous cloud (tf tanker -> receiver at
   // its stamp): in lockstep it is on its way, and waiting makes runs repeatable.
   double estimate_wait = 0.2;
@@ -50,11 +36,10 @@ struct OcclusionNodeOptions {
 // Reads ~parameters (one function, unknown keys rejected); throws std::invalid_argument.
 OcclusionNodeOptions LoadOcclusionNodeOptions(const ros::NodeHandle& private_nh);
 
-// Per sensed cloud (~points): the boom's volumes from tf (rebuilt when a link or camera moves),
-// the cloud without boom points (aar/points_filtered, aar/boom_points), the dynamic reference
-// model at the predicted pose (aar/reference_cloud) and the shadow volumes (aar/shadow_volumes).
-// When the boom cannot be placed (bad model, missing tf), clouds pass through unculled, the
-// reference accounts for self-occlusion only, and diagnostics say why.
+// The ROS side of OcclusionStep. Per sensed cloud (~points): gathers the tf it needs (cloud,
+// cameras, boom links, the latest estimate), runs the step, and publishes the cloud without boom
+// points (aar/points_filtered, aar/boom_points), the dynamic reference model
+// (aar/reference_cloud), the shadow volumes (aar/shadow_volumes) and diagnostics.
 class OcclusionNode {
  public:
   OcclusionNode(ros::NodeHandle nh, ros::NodeHandle private_nh,
@@ -65,7 +50,7 @@ class OcclusionNode {
   void OnCloud(const sensor_msgs::PointCloud2::ConstPtr& msg);
   std::optional<Eigen::Isometry3d> Lookup(const std::string& frame, const ros::Time& stamp,
                                           std::string* error);
-  void PublishMarkers(const std_msgs::Header& header);
+  std::optional<Eigen::Isometry3d> PredictedPose(const ros::Time& stamp);
   void ReportError(const std::string& what);
   void Diagnose(diagnostic_updater::DiagnosticStatusWrapper& status);
 
@@ -79,12 +64,10 @@ class OcclusionNode {
   ros::WallTimer diagnostics_timer_;
 
   std::mutex mutex_;
-  std::unique_ptr<BoomOcclusion> boom_;  // null when the boom model was refused
-  std::string boom_error_;               // why, naming the link
-  std::unique_ptr<DynamicReference> reference_;
+  std::unique_ptr<OcclusionStep> step_;
   bool markers_stale_ = true;
 
-  aar_registration::ErrorThrottle errors_;
+  aar_ros_common::ErrorThrottle errors_;
   std::mutex report_mutex_;                  // guards what diagnostics read
   std::string last_frame_error_;             // empty when the last frame was culled as configured
   std::string last_reference_error_;         // empty when the last reference was built

@@ -1,32 +1,28 @@
 #pragma once
 
-#include <string>
 #include <vector>
 
+#include <aar_msgs/PoseEstimate.h>
 #include <sensor_msgs/PointCloud2.h>
+#include <std_msgs/Header.h>
 #include <Eigen/Core>
+
+#include "aar_registration/registrar.h"
 
 namespace aar_registration {
 
-// The finite points of a cloud and where each sits in it (row * width + column).
-struct CloudPoints {
-  std::vector<Eigen::Vector3d> points;  // [m], the cloud's frame
-  std::vector<uint32_t> indices;
+// A frame's reference from aar/reference_cloud (receiver frame): the points both cameras see
+// (visibility class 0) when the cloud has classes, else all; normals when it has them.
+struct ReferencePoints {
+  std::vector<Eigen::Vector3d> points;   // [m]
+  std::vector<Eigen::Vector3d> normals;  // unit, or empty
 };
+// Throws std::invalid_argument for a cloud that cannot be read.
+ReferencePoints ToReferencePoints(const sensor_msgs::PointCloud2& msg);
 
-// Throws std::invalid_argument if the cloud has no float32 x, y, z or its layout does not hold
-// together (offsets beyond point_step, data size against rows).
-CloudPoints FromCloud(const sensor_msgs::PointCloud2& msg);
-
-bool HasField(const sensor_msgs::PointCloud2& msg, const std::string& name);
-
-// The values of a numeric field at the given point indices, as double. Throws
-// std::invalid_argument naming a missing field or an unsupported type.
-std::vector<double> ReadField(const sensor_msgs::PointCloud2& msg, const std::string& name,
-                              const std::vector<uint32_t>& indices);
-
-// The points at `indices`, every field kept, as an unorganized cloud with msg's header.
-sensor_msgs::PointCloud2 SelectPoints(const sensor_msgs::PointCloud2& msg,
-                                      const std::vector<uint32_t>& indices);
+// The estimate message of a registration (valid or not); `total_ms` [ms] from the cloud's
+// arrival. The header names the tanker frame and the cloud's stamp.
+aar_msgs::PoseEstimate ToPoseEstimate(const RegistrarResult& result, const std_msgs::Header& header,
+                                      double total_ms);
 
 }  // namespace aar_registration

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <aar_ros_common/error_throttle.h>
 #include <atomic>
 #include <map>
 #include <memory>
@@ -83,7 +84,7 @@ class StereoNode {
   size_t last_points_ = 0;
   std::string last_error_;
   uint64_t reported_frames_ = 0, reported_skipped_ = 0;  // at the previous diagnostics report
-  std::map<std::string, ros::WallTime> last_reported_;   // error text -> when last logged
+  aar_ros_common::ErrorThrottle errors_;
 };
 
 }  // namespace aar_stereo

@@ -1,0 +1,112 @@
+#include "aar_eval/evaluator.h"
+
+#include <cmath>
+#include <iomanip>
+#include <limits>
+#include <sstream>
+
+#include <aar_geometry/pose.h>
+#include <aar_geometry/pose_error.h>
+
+namespace aar_eval {
+namespace {
+
+// As ros::Time::toSec, so that path times are the same to the last digit.
+double ToSec(int64_t stamp_ns) {
+  return static_cast<double>(stamp_ns / 1000000000) +
+         1e-9 * static_cast<double>(stamp_ns % 1000000000);
+}
+
+}  // namespace
+
+Evaluator::FrameStatus Evaluator::AddFrame(int64_t stamp_ns) {
+  if (!frames_.empty() && stamp_ns <= frames_.back())
+    return stamp_ns < frames_.back() ? FrameStatus::kOlder : FrameStatus::kRepeat;
+  frames_.push_back(stamp_ns);
+  return FrameStatus::kNew;
+}
+
+bool Evaluator::AddEstimate(int64_t stamp_ns, const Estimate& estimate) {
+  if (settled_.count(stamp_ns)) return false;
+  estimates_[stamp_ns] = estimate;
+  return true;
+}
+
+std::vector<SettledFrame> Evaluator::SettleReady(const TruthLookup& truth) {
+  if (frames_.size() < 3) return {};
+  return Settle(frames_[frames_.size() - 2], truth);
+}
+
+std::vector<SettledFrame> Evaluator::SettleAll(const TruthLookup& truth) {
+  return Settle(std::numeric_limits<int64_t>::max(), truth);
+}
+
+std::vector<SettledFrame> Evaluator::Settle(int64_t before_ns, const TruthLookup& truth) {
+  std::vector<SettledFrame> out;
+  while (!frames_.empty() && frames_.front() < before_ns) {
+    SettledFrame s;
+    s.stamp_ns = frames_.front();
+    frames_.pop_front();
+    settled_.insert(s.stamp_ns);
+    FrameRecord& f = s.record;
+    f.t = ToSec(s.stamp_ns) - stamp_offset_;
+    std::string error;
+    const std::optional<Eigen::Isometry3d> T_truth = truth(s.stamp_ns, &error);
+    if (!T_truth) {
+      s.no_truth = error.empty() ? "no truth" : error;
+      estimates_.erase(s.stamp_ns);
+      ++no_truth_;
+      out.push_back(s);
+      continue;
+    }
+    f.range_m = T_truth->translation().norm();
+    f.region = aar_geometry::RegionOfRange(f.range_m);
+    const auto it = estimates_.find(s.stamp_ns);
+    if (it != estimates_.end()) {
+      const Estimate& est = it->second;
+      if (est.valid) {  // else no pose: a miss
+        const aar_geometry::PoseError e =
+            aar_geometry::ComputePoseError(*T_truth, est.T_tanker_receiver);
+        f.estimated = true;
+        f.error = {e.position_m.x(),
+                   e.position_m.y(),
+                   e.position_m.z(),
+                   aar_geometry::RadToDeg(e.orientation_rad.roll),
+                   aar_geometry::RadToDeg(e.orientation_rad.pitch),
+                   aar_geometry::RadToDeg(e.orientation_rad.yaw)};
+        f.converged = est.converged;
+        f.iterations = est.iterations;
+        f.rms = est.rms;
+        f.registration_ms = est.registration_ms;
+        position_sum_ +=
+            std::sqrt(f.error[0] * f.error[0] + f.error[1] * f.error[1] + f.error[2] * f.error[2]);
+        ++estimated_;
+      }
+      estimates_.erase(it);
+    }
+    records_.push_back(f);
+    if (records_.size() % 10 == 1 || !f.estimated) s.progress = ProgressLine(f);
+    out.push_back(s);
+  }
+  return out;
+}
+
+std::string Evaluator::ProgressLine(const FrameRecord& f) const {
+  const double position =
+      std::sqrt(f.error[0] * f.error[0] + f.error[1] * f.error[1] + f.error[2] * f.error[2]);
+  std::ostringstream line;
+  line << "eval: frame " << records_.size()
+       << (expected_frames_ > 0 ? " of " + std::to_string(expected_frames_) : "") << ", "
+       << std::fixed << std::setprecision(1) << f.range_m << " m (region "
+       << aar_geometry::RegionName(f.region) << "): " << std::setprecision(3);
+  if (f.estimated)
+    line << "error " << position << " m";
+  else
+    line << "MISSED";
+  if (estimated_ > 0)
+    line << "; running mean " << position_sum_ / estimated_ << " m over " << estimated_
+         << " estimates";
+  return line.str();
+}
+
+}  // namespace aar_eval

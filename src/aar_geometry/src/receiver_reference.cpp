@@ -1,0 +1,170 @@
+#include "aar_geometry/receiver_reference.h"
+
+#include <algorithm>
+#include <limits>
+#include <stdexcept>
+
+#include <embree3/rtcore.h>
+
+#include "aar_geometry/surface_sampling.h"
+
+namespace aar_geometry {
+
+ReferenceCloud ReferenceCloud::Subset(const std::vector<bool>& keep) const {
+  if (keep.size() != points.size())
+    throw std::invalid_argument("Subset: one flag per point needed");
+  ReferenceCloud out;
+  out.part_names = part_names;
+  for (size_t i = 0; i < points.size(); ++i) {
+    if (!keep[i]) continue;
+    out.points.push_back(points[i]);
+    out.normals.push_back(normals[i]);
+    out.parts.push_back(parts[i]);
+  }
+  return out;
+}
+
+ReferenceCloud ReferenceCloud::Select(const std::vector<std::string>& wanted) const {
+  std::vector<bool> part_kept(part_names.size(), false);
+  for (const auto& name : wanted) {
+    const auto it = std::find(part_names.begin(), part_names.end(), name);
+    if (it == part_names.end())
+      throw std::invalid_argument("reference model has no part '" + name + "'");
+    part_kept[it - part_names.begin()] = true;
+  }
+  std::vector<bool> keep(points.size());
+  for (size_t i = 0; i < points.size(); ++i) keep[i] = part_kept[parts[i]];
+  return Subset(keep);
+}
+
+ReferenceCloud SampleReceiver(const TriangleMesh& receiver, const ReferenceModelOptions& options) {
+  SurfaceSamplingOptions sampling;
+  sampling.points_per_m2 = options.points_per_m2;
+  sampling.seed = options.seed;
+  const SurfaceSamples samples = SampleSurface(receiver, sampling);
+  ReferenceCloud cloud;
+  cloud.points = samples.points;
+  cloud.normals = samples.normals;
+  cloud.parts = samples.parts;
+  cloud.part_names = receiver.part_names;
+  return cloud;
+}
+
+struct VisibilityTester::Bvh {
+  RTCDevice device = nullptr;
+  RTCScene scene = nullptr;
+};
+
+namespace {
+
+// True when the ray from `origin` along unit `d` hits the scene before `tfar` [m].
+bool Occluded(RTCScene scene, RTCIntersectContext* context, const Eigen::Vector3d& origin,
+              const Eigen::Vector3d& d, float tfar) {
+  RTCRay ray{};
+  ray.org_x = static_cast<float>(origin.x());
+  ray.org_y = static_cast<float>(origin.y());
+  ray.org_z = static_cast<float>(origin.z());
+  ray.dir_x = static_cast<float>(d.x());
+  ray.dir_y = static_cast<float>(d.y());
+  ray.dir_z = static_cast<float>(d.z());
+  ray.tnear = 0.0f;
+  ray.tfar = tfar;
+  ray.mask = 0xffffffff;
+  rtcOccluded1(scene, context, &ray);
+  return ray.tfar < 0.0f;  // Embree sets tfar to -inf when something is hit
+}
+
+}  // namespace
+
+VisibilityTester::VisibilityTester(const TriangleMesh& mesh) : bvh_(std::make_unique<Bvh>()) {
+  mesh.Validate();
+  bvh_->device = rtcNewDevice("threads=1");  // deterministic, and the caller owns the cores
+  if (!bvh_->device) throw std::runtime_error("Embree device could not be created");
+  bvh_->scene = rtcNewScene(bvh_->device);
+  RTCGeometry geometry = rtcNewGeometry(bvh_->device, RTC_GEOMETRY_TYPE_TRIANGLE);
+  auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0,
+                                                               RTC_FORMAT_FLOAT3, 3 * sizeof(float),
+                                                               mesh.vertices.size()));
+  for (size_t i = 0; i < mesh.vertices.size(); ++i) {
+    for (int k = 0; k < 3; ++k) vertices[3 * i + k] = static_cast<float>(mesh.vertices[i][k]);
+  }
+  auto* indices = static_cast<unsigned*>(
+      rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                              3 * sizeof(unsigned), mesh.triangles.size()));
+  for (size_t t = 0; t < mesh.triangles.size(); ++t) {
+    for (int k = 0; k < 3; ++k) indices[3 * t + k] = static_cast<unsigned>(mesh.triangles[t][k]);
+  }
+  rtcCommitGeometry(geometry);
+  rtcAttachGeometry(bvh_->scene, geometry);
+  rtcReleaseGeometry(geometry);
+  rtcCommitScene(bvh_->scene);
+}
+
+VisibilityTester::~VisibilityTester() {
+  if (bvh_->scene) rtcReleaseScene(bvh_->scene);
+  if (bvh_->device) rtcReleaseDevice(bvh_->device);
+}
+
+std::vector<bool> VisibilityTester::Visible(const std::vector<Eigen::Vector3d>& points,
+                                            const std::vector<Eigen::Vector3d>& normals,
+                                            const Eigen::Vector3d& eye, double tolerance) const {
+  if (normals.size() != points.size())
+    throw std::invalid_argument("Visible: one normal per point needed");
+  std::vector<bool> visible(points.size(), false);
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  for (size_t i = 0; i < points.size(); ++i) {
+    const Eigen::Vector3d to_point = points[i] - eye;
+    const double distance = to_point.norm();
+    if (!(distance > tolerance) || normals[i].dot(to_point) >= 0.0) continue;  // faces away
+    visible[i] = !Occluded(bvh_->scene, &context, eye, to_point / distance,
+                           static_cast<float>(distance - tolerance));
+  }
+  return visible;
+}
+
+std::vector<bool> VisibilityTester::RaysHit(const std::vector<Eigen::Vector3d>& origins,
+                                            const std::vector<Eigen::Vector3d>& directions) const {
+  if (origins.size() != directions.size())
+    throw std::invalid_argument("RaysHit: one direction per origin needed");
+  std::vector<bool> hit(origins.size(), false);
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  for (size_t i = 0; i < origins.size(); ++i) {
+    const Eigen::Vector3d& origin = origins[i];
+    const Eigen::Vector3d& d = directions[i];
+    if (!origin.allFinite() || !d.allFinite()) continue;
+    hit[i] = Occluded(bvh_->scene, &context, origin, d, std::numeric_limits<float>::infinity());
+  }
+  return hit;
+}
+
+ReferenceCloud Shell(const ReferenceCloud& dense, const VisibilityTester& receiver,
+                     const std::vector<Eigen::Vector3d>& eyes, double tolerance) {
+  std::vector<bool> keep(dense.size(), true);
+  for (const auto& eye : eyes) {
+    const std::vector<bool> seen = receiver.Visible(dense.points, dense.normals, eye, tolerance);
+    for (size_t i = 0; i < keep.size(); ++i) keep[i] = keep[i] && seen[i];
+  }
+  return dense.Subset(keep);
+}
+
+namespace {
+
+Eigen::Vector3d Centroid(const std::vector<Eigen::Vector3d>& points) {
+  if (points.empty()) throw std::invalid_argument("centroid of an empty cloud");
+  Eigen::Vector3d c = Eigen::Vector3d::Zero();
+  for (const auto& p : points) c += p;
+  return c / static_cast<double>(points.size());
+}
+
+}  // namespace
+
+Eigen::Isometry3d CentroidSeed(const std::vector<Eigen::Vector3d>& sensed_in_tanker,
+                               const std::vector<Eigen::Vector3d>& reference_in_receiver) {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();  // the tanker's orientation
+  T.translation() = Centroid(sensed_in_tanker) - Centroid(reference_in_receiver);
+  return T;
+}
+
+}  // namespace aar_geometry

@@ -1,0 +1,37 @@
+#include <gtest/gtest.h>
+
+#include "aar_geometry/primitives.h"
+#include "aar_geometry/receiver_reference.h"
+
+namespace aar_geometry {
+namespace {
+
+TEST(ReceiverReference, CentroidSeed) {
+  const std::vector<Eigen::Vector3d> reference = {{1, 0, 0}, {-1, 0, 0}, {0, 2, 0}, {0, -2, 2}};
+  std::vector<Eigen::Vector3d> sensed;
+  for (const auto& p : reference) sensed.push_back(p + Eigen::Vector3d(-35, 1, -10));
+  const Eigen::Isometry3d seed = CentroidSeed(sensed, reference);
+  EXPECT_TRUE(seed.linear().isIdentity());
+  EXPECT_TRUE(seed.translation().isApprox(Eigen::Vector3d(-35, 1, -10)));
+  EXPECT_THROW(CentroidSeed({}, reference), std::invalid_argument);
+}
+
+TEST(ReceiverReference, ShellKeepsWhatTheEyesSee) {
+  // A 2 m cube seen from far along +x: only the +x face is visible; adding an eye along +y keeps
+  // only what both see (nothing: no face faces both).
+  const TriangleMesh cube = MakeBox({2, 2, 2});
+  ReferenceModelOptions o;
+  o.points_per_m2 = 500;
+  const ReferenceCloud dense = SampleReceiver(cube, o);
+  const VisibilityTester tester(cube);
+  const ReferenceCloud front = Shell(dense, tester, {{50, 0, 0}}, 0.005);
+  EXPECT_NEAR(static_cast<double>(front.size()) / dense.size(), 1.0 / 6.0, 0.02);
+  for (const auto& p : front.points) EXPECT_NEAR(p.x(), 1.0, 1e-9);
+  EXPECT_EQ(Shell(dense, tester, {{50, 0, 0}, {0, 50, 0}}, 0.005).size(), 0u);
+  // From a corner direction three faces are visible.
+  const ReferenceCloud corner = Shell(dense, tester, {{50, 50, 50}}, 0.005);
+  EXPECT_NEAR(static_cast<double>(corner.size()) / dense.size(), 0.5, 0.03);
+}
+
+}  // namespace
+}  // namespace aar_geometry

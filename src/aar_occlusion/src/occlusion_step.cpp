@@ -1,0 +1,97 @@
+#include "aar_occlusion/occlusion_step.h"
+
+#include <stdexcept>
+
+namespace aar_occlusion {
+namespace {
+
+// The first of `links` without a pose; empty when all have one.
+std::string MissingLink(const std::vector<std::string>& links,
+                        const std::map<std::string, Eigen::Isometry3d>& poses) {
+  for (const auto& link : links) {
+    if (!poses.count(link)) return link;
+  }
+  return "";
+}
+
+}  // namespace
+
+OcclusionStep::OcclusionStep(const OcclusionStepOptions& options,
+                             const std::optional<aar_geometry::RobotModel>& boom,
+                             std::string boom_error, const aar_geometry::TriangleMesh* receiver)
+    : options_(options), boom_error_(std::move(boom_error)) {
+  if (boom) {
+    try {
+      boom_ = std::make_unique<BoomOcclusion>(LoadBoomParts(*boom, options_.parts), options_.boom);
+      boom_error_.clear();
+    } catch (const std::exception& e) {
+      boom_error_ = e.what();
+    }
+  }
+  if (options_.build_reference) {
+    if (receiver == nullptr)
+      throw std::invalid_argument("OcclusionStep: a dynamic reference needs the receiver mesh");
+    reference_ = std::make_unique<DynamicReference>(
+        aar_geometry::SampleReceiver(*receiver, options_.sampling), *receiver, options_.reference);
+  }
+}
+
+OcclusionStep::~OcclusionStep() = default;
+
+bool OcclusionStep::NeedsLinks(bool volumes_wanted) const {
+  return boom_ && (options_.cull != CullMethod::kNone || reference_ || volumes_wanted);
+}
+
+std::vector<std::string> OcclusionStep::boom_links() const {
+  return boom_ ? boom_->links() : std::vector<std::string>{};
+}
+
+OcclusionResult OcclusionStep::Process(const OcclusionInput& in) {
+  OcclusionResult r;
+  // Place the boom; without it this frame passes through unculled.
+  const bool needed = options_.cull != CullMethod::kNone || reference_ || in.volumes_wanted;
+  if (!needed) {
+    // Nothing to do with the boom: the cloud passes through as configured.
+  } else if (!boom_) {
+    r.cull_error = boom_error_;
+  } else if (const std::string missing = MissingLink(boom_->links(), in.T_tanker_links);
+             !missing.empty()) {
+    r.cull_error =
+        in.links_error.empty() ? "no pose for boom link '" + missing + "'" : in.links_error;
+  } else {
+    try {
+      r.volumes_rebuilt = boom_->Update(in.T_tanker_links, in.left_eye, in.right_eye);
+      r.boom_placed = true;
+    } catch (const std::exception& e) {
+      r.cull_error = e.what();
+    }
+  }
+
+  std::vector<bool> is_boom(in.points.size(), false);
+  if (r.boom_placed) is_boom = boom_->Cull(in.points, options_.cull);
+  std::vector<Eigen::Vector3d> kept_points;
+  for (size_t i = 0; i < in.points.size(); ++i) {
+    (is_boom[i] ? r.removed : r.kept).push_back(i);
+    if (!is_boom[i]) kept_points.push_back(in.points[i]);
+  }
+
+  if (reference_) {
+    std::optional<Eigen::Isometry3d> T_tanker_receiver = in.T_tanker_receiver_predicted;
+    if (!T_tanker_receiver && !kept_points.empty())
+      T_tanker_receiver = aar_geometry::CentroidSeed(kept_points, {Eigen::Vector3d::Zero()});
+    try {
+      if (!T_tanker_receiver) throw std::runtime_error("no predicted pose: no estimate, no points");
+      r.T_tanker_receiver = *T_tanker_receiver;
+      r.reference = r.boom_placed
+                        ? reference_->Build(*T_tanker_receiver, *boom_)
+                        : reference_->Build(*T_tanker_receiver, in.left_eye, in.right_eye);
+      r.has_reference = true;
+    } catch (const std::exception& e) {
+      r.reference_error = e.what();
+      r.reference = DynamicReferenceResult{};
+    }
+  }
+  return r;
+}
+
+}  // namespace aar_occlusion

@@ -1,0 +1,165 @@
+#include "aar_ros_common/point_cloud.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <stdexcept>
+
+#include <sensor_msgs/point_cloud2_iterator.h>
+
+namespace aar_ros_common {
+namespace {
+
+const sensor_msgs::PointField* Field(const sensor_msgs::PointCloud2& msg, const std::string& name) {
+  for (const auto& f : msg.fields) {
+    if (f.name == name) return &f;
+  }
+  return nullptr;
+}
+
+size_t NumPoints(const sensor_msgs::PointCloud2& msg) {
+  return static_cast<size_t>(msg.width) * msg.height;
+}
+
+void CheckLayout(const sensor_msgs::PointCloud2& msg) {
+  if (msg.is_bigendian)
+    throw std::invalid_argument("cloud is big-endian: only little-endian clouds are read");
+  if (msg.row_step < static_cast<uint64_t>(msg.width) * msg.point_step ||
+      msg.data.size() != static_cast<size_t>(msg.row_step) * msg.height) {
+    throw std::invalid_argument("cloud is malformed: " + std::to_string(msg.data.size()) +
+                                " bytes for " + std::to_string(msg.height) + " rows of " +
+                                std::to_string(msg.row_step) + " (" + std::to_string(msg.width) +
+                                " points of " + std::to_string(msg.point_step) + ")");
+  }
+  for (const auto& f : msg.fields) {
+    size_t size = 0;
+    try {
+      // sensor_msgs declares it in an unnamed namespace of its iterator header.
+      size = static_cast<size_t>(sizeOfPointField(f.datatype));
+    } catch (const std::runtime_error&) {
+      throw std::invalid_argument("cloud field '" + f.name + "' has unknown type " +
+                                  std::to_string(f.datatype));
+    }
+    if (f.offset + size * std::max<uint32_t>(f.count, 1) > msg.point_step)
+      throw std::invalid_argument("cloud field '" + f.name + "' exceeds point_step");
+  }
+}
+
+// sensor_msgs' iterators step by point_step alone: a cloud whose rows carry padding
+// (row_step > width * point_step) is copied without it first.
+const sensor_msgs::PointCloud2& Unpadded(const sensor_msgs::PointCloud2& msg,
+                                         sensor_msgs::PointCloud2& storage) {
+  const size_t row_bytes = static_cast<size_t>(msg.width) * msg.point_step;
+  if (msg.row_step == row_bytes) return msg;
+  storage = msg;
+  storage.data.resize(row_bytes * msg.height);
+  for (uint32_t r = 0; r < msg.height; ++r) {
+    std::memcpy(&storage.data[r * row_bytes], &msg.data[static_cast<size_t>(r) * msg.row_step],
+                row_bytes);
+  }
+  storage.row_step = static_cast<uint32_t>(row_bytes);
+  return storage;
+}
+
+template <typename T>
+void Read(const sensor_msgs::PointCloud2& msg, const std::string& name,
+          const std::vector<uint32_t>& indices, std::vector<double>& out) {
+  sensor_msgs::PointCloud2ConstIterator<T> first(msg, name);
+  for (const uint32_t i : indices) out.push_back(static_cast<double>(*(first + i)));
+}
+
+}  // namespace
+
+bool HasField(const sensor_msgs::PointCloud2& msg, const std::string& name) {
+  return Field(msg, name) != nullptr;
+}
+
+CloudPoints FromCloud(const sensor_msgs::PointCloud2& msg) {
+  for (const char* name : {"x", "y", "z"}) {
+    const auto* f = Field(msg, name);
+    if (f == nullptr || f->datatype != sensor_msgs::PointField::FLOAT32)
+      throw std::invalid_argument(std::string("cloud has no float32 field '") + name + "'");
+  }
+  CheckLayout(msg);
+  CloudPoints out;
+  const size_t n = NumPoints(msg);
+  if (n == 0) return out;
+  sensor_msgs::PointCloud2 storage;
+  const sensor_msgs::PointCloud2& cloud = Unpadded(msg, storage);
+  out.points.reserve(n);
+  out.indices.reserve(n);
+  sensor_msgs::PointCloud2ConstIterator<float> x(cloud, "x"), y(cloud, "y"), z(cloud, "z");
+  for (uint32_t i = 0; i < n; ++i, ++x, ++y, ++z) {
+    if (std::isfinite(*x) && std::isfinite(*y) && std::isfinite(*z)) {
+      out.points.emplace_back(*x, *y, *z);
+      out.indices.push_back(i);
+    }
+  }
+  return out;
+}
+
+std::vector<double> ReadField(const sensor_msgs::PointCloud2& msg, const std::string& name,
+                              const std::vector<uint32_t>& indices) {
+  const auto* f = Field(msg, name);
+  if (f == nullptr) throw std::invalid_argument("cloud has no field '" + name + "'");
+  CheckLayout(msg);
+  for (const uint32_t i : indices) {
+    if (i >= NumPoints(msg)) throw std::invalid_argument("point index beyond the cloud");
+  }
+  std::vector<double> out;
+  if (indices.empty()) return out;
+  out.reserve(indices.size());
+  sensor_msgs::PointCloud2 storage;
+  const sensor_msgs::PointCloud2& cloud = Unpadded(msg, storage);
+  switch (f->datatype) {
+    case sensor_msgs::PointField::INT8:
+      Read<int8_t>(cloud, name, indices, out);
+      break;
+    case sensor_msgs::PointField::UINT8:
+      Read<uint8_t>(cloud, name, indices, out);
+      break;
+    case sensor_msgs::PointField::INT16:
+      Read<int16_t>(cloud, name, indices, out);
+      break;
+    case sensor_msgs::PointField::UINT16:
+      Read<uint16_t>(cloud, name, indices, out);
+      break;
+    case sensor_msgs::PointField::INT32:
+      Read<int32_t>(cloud, name, indices, out);
+      break;
+    case sensor_msgs::PointField::UINT32:
+      Read<uint32_t>(cloud, name, indices, out);
+      break;
+    case sensor_msgs::PointField::FLOAT32:
+      Read<float>(cloud, name, indices, out);
+      break;
+    case sensor_msgs::PointField::FLOAT64:
+      Read<double>(cloud, name, indices, out);
+      break;
+  }
+  return out;
+}
+
+sensor_msgs::PointCloud2 SelectPoints(const sensor_msgs::PointCloud2& msg,
+                                      const std::vector<uint32_t>& indices) {
+  CheckLayout(msg);
+  sensor_msgs::PointCloud2 out;
+  out.header = msg.header;
+  out.fields = msg.fields;
+  out.is_bigendian = msg.is_bigendian;
+  out.point_step = msg.point_step;
+  out.is_dense = true;  // only finite points are selected by callers
+  out.height = 1;
+  sensor_msgs::PointCloud2Modifier(out).resize(indices.size());  // height 1, row_step, data
+  for (size_t k = 0; k < indices.size(); ++k) {
+    if (indices[k] >= NumPoints(msg)) throw std::invalid_argument("point index beyond the cloud");
+    const uint32_t row = indices[k] / msg.width, col = indices[k] % msg.width;
+    std::memcpy(&out.data[k * out.point_step],
+                &msg.data[static_cast<size_t>(row) * msg.row_step +
+                          static_cast<size_t>(col) * msg.point_step],
+                out.point_step);
+  }
+  return out;
+}
+
+}  // namespace aar_ros_common

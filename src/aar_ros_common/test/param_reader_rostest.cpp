@@ -1,0 +1,63 @@
+#include <gtest/gtest.h>
+#include <functional>
+
+#include <ros/ros.h>
+
+#include "aar_ros_common/param_reader.h"
+
+namespace aar_ros_common {
+namespace {
+
+std::string ErrorOf(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const std::invalid_argument& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(ParamReader, ReadsDefaultsAndRefusesTheWrongType) {
+  ros::NodeHandle pnh("~");
+  ParamReader params(pnh);
+  EXPECT_EQ(params.Get("rate", 1.0), 2.5);
+  EXPECT_EQ(params.Get<std::string>("name", "right"), "left");
+  EXPECT_EQ(params.Get("absent", 7), 7);
+  EXPECT_EQ(params.Required("name", "a camera"), "left");
+  const std::string wrong = ErrorOf([&] { params.Get("count", 3); });
+  EXPECT_NE(wrong.find("/param_reader/count has the wrong type"), std::string::npos) << wrong;
+  const std::string missing = ErrorOf([&] { params.Required("flight_path", "a CSV"); });
+  EXPECT_NE(missing.find("required parameter /param_reader/flight_path (a CSV)"), std::string::npos)
+      << missing;
+  const std::string rule = ErrorOf([&] { params.Check(false, "rate", "must be positive"); });
+  EXPECT_EQ(rule, "parameter /param_reader/rate must be positive");
+}
+
+TEST(ParamReader, RejectsKeysNobodyRead) {
+  ros::NodeHandle pnh("~");
+  ParamReader params(pnh);
+  params.Get("rate", 1.0);
+  params.Get<std::string>("name", "");
+  params.Get<std::string>("count", "");
+  const std::string nested = ErrorOf([&] { params.RejectUnknown(); });
+  EXPECT_NE(nested.find("unknown parameter /param_reader/dynamic/setting"), std::string::npos)
+      << nested;
+  params.AllowSubNamespaces();
+  EXPECT_EQ(ErrorOf([&] { params.RejectUnknown(); }), "");
+
+  ParamReader partial(pnh);
+  partial.Get("rate", 1.0);
+  partial.Allow("name");
+  partial.AllowSubNamespaces();
+  const std::string unknown = ErrorOf([&] { partial.RejectUnknown(); });
+  EXPECT_EQ(unknown, "unknown parameter /param_reader/count (misspelt?)");
+}
+
+}  // namespace
+}  // namespace aar_ros_common
+
+int main(int argc, char** argv) {
+  testing::InitGoogleTest(&argc, argv);
+  ros::init(argc, argv, "param_reader");
+  return RUN_ALL_TESTS();
+}

@@ -1,0 +1,81 @@
+// Every node YAML in config/ and every experiment in config/experiments/, loaded as the pipeline
+// loads them (defaults first, the experiment over them), passes the nodes' own option loaders,
+// which refuse unknown keys and wrong types.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include <aar_eval/ros/eval_node.h>
+#include <aar_occlusion/ros/occlusion_node.h>
+#include <aar_registration/ros/registration_node.h>
+#include <aar_sim/ros/sim_node.h>
+#include <aar_stereo/ros/stereo_node.h>
+#include <ros/ros.h>
+
+#include "aar_testing/paths.h"
+
+namespace {
+
+TEST(Config, EveryExperimentLoadsIntoEveryNode) {
+  const std::string dir = aar_testing::ConfigDir() + "/experiments";
+  int experiments = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(dir)) {
+    if (entry.path().extension() != ".yaml") continue;
+    const std::string name = entry.path().stem().string();
+    ++experiments;
+    ros::NodeHandle root("/experiment_" + name);
+    ASSERT_TRUE(root.hasParam("sim")) << name << ": not loaded by config.test (add it there)";
+    try {
+      const auto sim = aar_sim::LoadSimNodeOptions(ros::NodeHandle(root, "sim"));
+      const auto occlusion =
+          aar_occlusion::LoadOcclusionNodeOptions(ros::NodeHandle(root, "occlusion"));
+      const auto registration =
+          aar_registration::LoadRegistrationNodeOptions(ros::NodeHandle(root, "registration"));
+      // What the experiments claim in their comments.
+      if (name == "dynamic") {
+        EXPECT_EQ(occlusion.step.cull, aar_occlusion::CullMethod::kVolumes);
+        EXPECT_TRUE(occlusion.step.build_reference);
+        EXPECT_EQ(registration.registrar.reference, aar_registration::ReferenceKind::kTopic);
+      }
+      if (name == "static_wings_nose") {
+        EXPECT_EQ(occlusion.step.cull, aar_occlusion::CullMethod::kRaysBrute);
+        EXPECT_TRUE(occlusion.step.boom.cull_behind_boom);
+        EXPECT_EQ(registration.registrar.reference, aar_registration::ReferenceKind::kWingsNose);
+      }
+      if (name == "naive" || name == "no_boom") {
+        EXPECT_EQ(occlusion.step.cull, aar_occlusion::CullMethod::kNone);
+        EXPECT_EQ(registration.registrar.reference, aar_registration::ReferenceKind::kShelled);
+        EXPECT_EQ(sim.world.boom_visible, name == "naive");
+      }
+    } catch (const std::exception& e) {
+      ADD_FAILURE() << "experiment " << name << ": " << e.what();
+    }
+  }
+  EXPECT_EQ(experiments, 4);
+}
+
+TEST(Config, StereoAndEvalLoadAsTheLaunchFilesGiveThem) {
+  try {
+    const auto stereo = aar_stereo::LoadStereoNodeOptions(ros::NodeHandle("/stereo/aar_stereo"));
+    EXPECT_FALSE(stereo.approximate_sync);
+    EXPECT_EQ(stereo.queue_size, 5);
+    const auto sim = aar_sim::LoadSimNodeOptions(ros::NodeHandle("/sim"));
+    const auto eval = aar_eval::LoadEvalNodeOptions(ros::NodeHandle("/eval"));
+    EXPECT_EQ(eval.output_dir, "/tmp/aar_config_test");
+    EXPECT_EQ(eval.expected_frames, 509);
+    EXPECT_EQ(eval.stamp_offset, sim.stamp_offset);  // read where the simulator is configured
+  } catch (const std::exception& e) {
+    ADD_FAILURE() << e.what();
+  }
+  // A misspelt key in stereo.yaml's namespace stops the node, naming it.
+  ros::NodeHandle("/stereo/aar_stereo").setParam("block_sise", 11);
+  try {
+    aar_stereo::LoadStereoNodeOptions(ros::NodeHandle("/stereo/aar_stereo"));
+    ADD_FAILURE() << "a misspelt stereo key was accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("/stereo/aar_stereo/block_sise"), std::string::npos)
+        << e.what();
+  }
+}
+
+}  // namespace

@@ -1,0 +1,260 @@
+#include <gtest/gtest.h>
+
+#include <aar_geometry/pose_error.h>
+#include <aar_msgs/PoseError.h>
+#include <aar_msgs/PoseEstimate.h>
+#include <ros/ros.h>
+#include <rosgraph_msgs/Log.h>
+#include <sensor_msgs/point_cloud2_iterator.h>
+#include <tf2_eigen/tf2_eigen.h>
+#include <tf2_ros/static_transform_broadcaster.h>
+#include <tf2_ros/transform_listener.h>
+#include "aar_testing/stamped_collector.h"
+
+#include <cstdlib>
+#include <fstream>
+#include <limits>
+
+namespace {
+
+TEST(NearContact, NoBoomErrorsUnderTenCentimetresAndOneDegree) {
+  ros::NodeHandle nh;
+  aar_testing::StampedCollector<aar_msgs::PoseEstimate> estimates(nh, "/aar/pose_estimate");
+  aar_testing::StampedCollector<aar_msgs::PoseError> errors(nh, "/aar/pose_error");
+  tf2_ros::Buffer tf(ros::Duration(120.0));
+  tf2_ros::TransformListener listener(tf);
+  const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(200.0);
+  while (ros::WallTime::now() < deadline && estimates.size() < 20) ros::WallDuration(0.1).sleep();
+  ASSERT_GE(estimates.size(), 18u) << "estimates for fewer than 18 of 20 frames";
+
+  double position = 0.0, orientation = 0.0;
+  int n = 0, converged = 0, checked_errors = 0;
+  std::lock_guard<std::mutex> lock(estimates.mutex);
+  for (const auto& [stamp, estimate] : estimates.by_stamp) {
+    const auto truth = tf.lookupTransform("tanker", "receiver_truth", stamp, ros::Duration(2.0));
+    Eigen::Isometry3d estimated;
+    tf2::fromMsg(estimate->pose, estimated);
+    const aar_geometry::PoseError e =
+        aar_geometry::ComputePoseError(tf2::transformToEigen(truth), estimated);
+    const double angle = aar_geometry::RadToDeg(
+        Eigen::Vector3d(e.orientation_rad.roll, e.orientation_rad.pitch, e.orientation_rad.yaw)
+            .norm());
+    std::printf(
+        "[ near contact ] %.1f s, %.1f m (region %s): error %.3f m, %.3f deg; %u points, %u "
+        "iterations%s\n",
+        stamp.toSec(), e.range_m, aar_geometry::RegionName(e.region).c_str(), e.position_m.norm(),
+        angle, estimate->sensed_points, estimate->iterations,
+        estimate->converged ? "" : ", not converged");
+    // eval_node's error for the same frame agrees with this one (it settles frames one behind).
+    std::lock_guard<std::mutex> error_lock(errors.mutex);
+    if (errors.by_stamp.count(stamp)) {
+      const aar_msgs::PoseError& m = *errors.by_stamp.at(stamp);
+      EXPECT_NEAR(m.x_m, e.position_m.x(), 1e-6);
+      EXPECT_NEAR(m.yaw_deg, aar_geometry::RadToDeg(e.orientation_rad.yaw), 1e-6);
+      EXPECT_NEAR(m.range_m, e.range_m, 1e-6);
+      EXPECT_EQ(m.region, aar_msgs::PoseError::REGION_C);
+      ++checked_errors;
+    }
+    position += e.position_m.norm();
+    orientation += angle;
+    converged += estimate->converged;
+    ++n;
+  }
+  position /= n;
+  orientation /= n;
+  std::printf(
+      "[ near contact ] %d frames: mean position error %.4f m, mean orientation error %.4f deg\n",
+      n, position, orientation);
+  EXPECT_GE(checked_errors, 15) << "eval_node published too few /aar/pose_error messages";
+  EXPECT_LT(position, 0.10);
+  EXPECT_LT(orientation, 1.0);
+}
+
+sensor_msgs::PointCloud2 Cloud(const std::string& frame, const std::vector<Eigen::Vector3f>& points,
+                               bool with_z = true) {
+  sensor_msgs::PointCloud2 msg;
+  msg.header.frame_id = frame;
+  msg.header.stamp = ros::Time::now();
+  sensor_msgs::PointCloud2Modifier modifier(msg);
+  if (with_z) {
+    modifier.setPointCloud2FieldsByString(1, "xyz");
+  } else {
+    modifier.setPointCloud2Fields(2, "x", 1, sensor_msgs::PointField::FLOAT32, "y", 1,
+                                  sensor_msgs::PointField::FLOAT32);
+  }
+  modifier.resize(points.size());
+  sensor_msgs::PointCloud2Iterator<float> x(msg, "x"), y(msg, "y");
+  for (size_t i = 0; i < points.size(); ++i, ++x, ++y) *x = points[i].x(), *y = points[i].y();
+  if (with_z) {
+    sensor_msgs::PointCloud2Iterator<float> z(msg, "z");
+    for (size_t i = 0; i < points.size(); ++i, ++z) *z = points[i].z();
+  }
+  return msg;
+}
+
+// Frame "sensor" 35 m aft of the tanker origin, where the receiver flies near contact.
+geometry_msgs::TransformStamped SensorMount() {
+  geometry_msgs::TransformStamped mount;
+  mount.header.frame_id = "tanker";
+  mount.child_frame_id = "sensor";
+  mount.transform.translation.x = -35.0;
+  mount.transform.rotation.w = 1.0;
+  return mount;
+}
+
+// A cloud of the receiver's rough shape around its origin: a fuselage line and a wing line.
+std::vector<Eigen::Vector3f> ReceiverShape() {
+  std::vector<Eigen::Vector3f> shape;
+  for (int i = -40; i <= 40; ++i) {
+    shape.emplace_back(0.1f * i, 0.0f, 0.0f);
+    shape.emplace_back(0.5f, 0.2f * i, -0.4f);
+  }
+  return shape;
+}
+
+TEST(BadInput, ErrorsNamedNoEstimateNodeAlive) {
+  ros::NodeHandle nh;
+  ros::Publisher clouds = nh.advertise<sensor_msgs::PointCloud2>("/points", 5);
+  std::mutex mutex;
+  std::vector<std::string> errors;
+  ros::Subscriber rosout =
+      nh.subscribe<rosgraph_msgs::Log>("/rosout", 100, [&](const rosgraph_msgs::Log::ConstPtr& m) {
+        if (m->level >= rosgraph_msgs::Log::ERROR && m->name == "/registration") {
+          std::lock_guard<std::mutex> lock(mutex);
+          errors.push_back(m->msg);
+        }
+      });
+  aar_testing::StampedCollector<aar_msgs::PoseEstimate> estimates(nh, "/aar/pose_estimate");
+  tf2_ros::StaticTransformBroadcaster static_tf;
+  static_tf.sendTransform(SensorMount());
+  const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(30.0);
+  while (ros::WallTime::now() < deadline &&
+         (clouds.getNumSubscribers() == 0 || rosout.getNumPublishers() == 0)) {
+    ros::WallDuration(0.05).sleep();
+  }
+  ASSERT_GT(clouds.getNumSubscribers(), 0u);
+  auto logged = [&](const std::string& text) {
+    const ros::WallTime until = ros::WallTime::now() + ros::WallDuration(5.0);
+    while (ros::WallTime::now() < until) {
+      {
+        std::lock_guard<std::mutex> lock(mutex);
+        for (const auto& e : errors)
+          if (e.find(text) != std::string::npos) return true;
+      }
+      ros::WallDuration(0.05).sleep();
+    }
+    return false;
+  };
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  clouds.publish(Cloud("sensor", {}));
+  EXPECT_TRUE(logged("cloud has 0 finite points"));
+  clouds.publish(Cloud("sensor", std::vector<Eigen::Vector3f>(50, Eigen::Vector3f(nan, nan, nan))));
+  ros::WallDuration(0.3).sleep();
+  clouds.publish(Cloud("nowhere", {{1, 2, 3}}));
+  EXPECT_TRUE(logged("no tf tanker -> 'nowhere'"));
+  clouds.publish(Cloud("sensor", {{1, 2, 3}}, false));
+  EXPECT_TRUE(logged("no float32 field 'z'"));
+  sensor_msgs::PointCloud2 ragged =
+      Cloud("sensor", std::vector<Eigen::Vector3f>(20, Eigen::Vector3f(1, 2, 3)));
+  ragged.data.resize(ragged.data.size() +
+                     4);  // not a whole number of points: once read past the end
+  clouds.publish(ragged);
+  EXPECT_TRUE(logged("cloud is malformed"));
+  {
+    std::lock_guard<std::mutex> lock(estimates.mutex);  // only "no pose" replies, for lockstep
+    for (const auto& [stamp, e] : estimates.by_stamp)
+      EXPECT_FALSE(e->valid) << "a bad cloud produced a pose";
+  }
+  const size_t invalid = estimates.size();
+
+  // Alive: a cloud of the receiver's shape 35 m aft gives an estimate near there.
+  const std::vector<Eigen::Vector3f> shape = ReceiverShape();
+  clouds.publish(Cloud("sensor", shape));
+  const ros::WallTime until = ros::WallTime::now() + ros::WallDuration(10.0);
+  while (ros::WallTime::now() < until && estimates.size() == invalid)
+    ros::WallDuration(0.05).sleep();
+  ASSERT_EQ(estimates.size(), invalid + 1);
+  std::lock_guard<std::mutex> lock(estimates.mutex);
+  const auto& good = estimates.by_stamp.rbegin()->second;
+  EXPECT_TRUE(good->valid);
+  EXPECT_NEAR(good->pose.position.x, -35.0, 5.0);
+}
+
+// reference: topic: each cloud is registered to the reference of its own stamp, to the points
+// both cameras see (visibility 0); a cloud whose reference never comes gets an invalid estimate.
+TEST(TopicReference, PairsByStampUsesClassZeroAndAnswersWithoutReference) {
+  ros::NodeHandle nh;
+  ros::Publisher clouds = nh.advertise<sensor_msgs::PointCloud2>("/points", 5);
+  ros::Publisher references = nh.advertise<sensor_msgs::PointCloud2>("/aar/reference_cloud", 5);
+  aar_testing::StampedCollector<aar_msgs::PoseEstimate> estimates(nh, "/aar/pose_estimate");
+  tf2_ros::StaticTransformBroadcaster static_tf;
+  static_tf.sendTransform(SensorMount());
+  const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(30.0);
+  while (ros::WallTime::now() < deadline &&
+         (clouds.getNumSubscribers() == 0 || references.getNumSubscribers() == 0 ||
+          estimates.sub.getNumPublishers() == 0)) {
+    ros::WallDuration(0.05).sleep();
+  }
+  ASSERT_GT(references.getNumSubscribers(), 0u);
+  auto wait_for = [&](const ros::Time& stamp) {
+    const ros::WallTime until = ros::WallTime::now() + ros::WallDuration(10.0);
+    while (ros::WallTime::now() < until) {
+      {
+        std::lock_guard<std::mutex> lock(estimates.mutex);
+        if (estimates.by_stamp.count(stamp)) return estimates.by_stamp.at(stamp);
+      }
+      ros::WallDuration(0.02).sleep();
+    }
+    return aar_msgs::PoseEstimate::ConstPtr();
+  };
+  const std::vector<Eigen::Vector3f> shape = ReceiverShape();
+  // No reference: answered (invalid) after reference_timeout.
+  const auto alone = Cloud("sensor", shape);
+  clouds.publish(alone);
+  const auto none = wait_for(alone.header.stamp);
+  ASSERT_TRUE(none) << "no answer for a cloud without a reference";
+  EXPECT_FALSE(none->valid);
+
+  // With a reference of the same stamp: the shape (class 0) plus 300 points of class 3 far off,
+  // which would pull the centroid seed 10 m aside if they were used.
+  auto cloud = Cloud("sensor", shape);
+  std::vector<Eigen::Vector3f> ref_points = shape;
+  for (int i = 0; i < 300; ++i) ref_points.emplace_back(0.0f, 40.0f, 0.0f);
+  sensor_msgs::PointCloud2 reference;
+  reference.header.stamp = cloud.header.stamp;
+  reference.header.frame_id = "receiver";
+  sensor_msgs::PointCloud2Modifier modifier(reference);
+  modifier.setPointCloud2Fields(
+      4, "x", 1, sensor_msgs::PointField::FLOAT32, "y", 1, sensor_msgs::PointField::FLOAT32, "z", 1,
+      sensor_msgs::PointField::FLOAT32, "visibility", 1, sensor_msgs::PointField::UINT8);
+  modifier.resize(ref_points.size());
+  sensor_msgs::PointCloud2Iterator<float> x(reference, "x");
+  sensor_msgs::PointCloud2Iterator<uint8_t> v(reference, "visibility");
+  for (size_t i = 0; i < ref_points.size(); ++i, ++x, ++v) {
+    x[0] = ref_points[i].x(), x[1] = ref_points[i].y(), x[2] = ref_points[i].z();
+    *v = i < shape.size() ? 0 : 3;
+  }
+  references.publish(reference);
+  clouds.publish(cloud);
+  const auto paired = wait_for(cloud.header.stamp);
+  ASSERT_TRUE(paired) << "no answer for a cloud with its reference";
+  EXPECT_TRUE(paired->valid);
+  EXPECT_EQ(paired->reference_points, shape.size());
+  EXPECT_NEAR(paired->pose.position.x, -35.0, 0.01);
+  EXPECT_NEAR(paired->pose.position.y, 0.0, 0.01);
+}
+
+TEST(BadInput, MissingReferenceMeshExitsNamingIt) {
+  const std::string log = "/tmp/aar_registration_bad_mesh.log";
+  const int status = std::system(
+      ("timeout 30 " + std::string("rosrun aar_registration registration_node") +
+       " __name:=bad_mesh _reference:=dense _receiver_mesh:=/nonexistent/receiver.obj > " + log +
+       " 2>&1")
+          .c_str());
+  std::ifstream in(log);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 1) << text;
+  EXPECT_NE(text.find("/nonexistent/receiver.obj"), std::string::npos) << text;
+}
+
+}  // namespace

@@ -1,0 +1,128 @@
+// scripts/replay on the committed sample bag reproduces the live run that recorded it, and on
+// broken bags it names what is wrong and exits (status 2) without starting the graph.
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+
+#include <array>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <regex>
+#include <string>
+
+#include "aar_testing/paths.h"
+
+namespace {
+
+const std::string kRoot = aar_testing::WorkspaceRoot();
+
+struct Result {
+  int status = -1;
+  std::string output;
+  double seconds = 0.0;
+};
+
+Result Sh(const std::string& command) {
+  const auto start = std::chrono::steady_clock::now();
+  Result r;
+  std::unique_ptr<FILE, int (*)(FILE*)> pipe(popen((command + " 2>&1").c_str(), "r"), pclose);
+  std::array<char, 4096> buffer;
+  while (fgets(buffer.data(), buffer.size(), pipe.get())) r.output += buffer.data();
+  const int status = pclose(pipe.release());
+  r.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return r;
+}
+
+std::string Replay(const std::string& bag, const std::string& out) {
+  return "timeout 300 " + kRoot + "/scripts/replay --no-build " + bag + " --out " + out;
+}
+
+TEST(Replay, SampleBagReproducesTheLiveRun) {
+  const std::string out = ::testing::TempDir() + "/replay_sample";
+  std::filesystem::remove_all(out);
+  const Result r = Sh(Replay(kRoot + "/rosbags/sample_contact.bag", out));
+  std::printf("%s", r.output.c_str());
+  ASSERT_EQ(r.status, 0);
+  std::smatch m;
+  ASSERT_TRUE(
+      std::regex_search(r.output, m,
+                        std::regex("(\\d+) of (\\d+) frames compared, 0 differ in having an "
+                                   "estimate; largest difference ([0-9.e+-]+) m, "
+                                   "([0-9.e+-]+) deg")));
+  EXPECT_EQ(m[1], m[2]);
+  EXPECT_EQ(m[1], "30");
+  EXPECT_LE(std::stod(m[3]), 1e-6);  // lockstep recording, deterministic graph: the same poses
+  EXPECT_LE(std::stod(m[4]), 1e-6);
+  EXPECT_TRUE(std::filesystem::exists(out + "/report.md"));
+}
+
+TEST(Replay, BrokenBagsAreNamedAndRefused) {
+  const std::string dir = ::testing::TempDir() + "/replay_bad";
+  std::filesystem::create_directories(dir);
+  const std::string sample = kRoot + "/rosbags/sample_contact.bag";
+  struct Case {
+    std::string name, make, needle;
+  };
+  const Case cases[] = {
+      {"no_right_info.bag",
+       "rosbag filter " + sample + " " + dir +
+           "/no_right_info.bag \"topic != '/stereo/right/camera_info'\"",
+       "lacks /stereo/right/camera_info"},
+      {"no_info.bag",
+       "rosbag filter " + sample + " " + dir + "/no_info.bag \"not topic.endswith('camera_info')\"",
+       "lacks /stereo/left/camera_info /stereo/right/camera_info"},
+      {"truncated.bag", "head -c 3000000 " + sample + " > " + dir + "/truncated.bag",
+       "is broken: ERROR bag unindexed"},
+      {"garbage.bag", "printf 'not a bag' > " + dir + "/garbage.bag",
+       "does not appear to be a bag file"},
+      {"missing.bag", "true", "does not exist"},
+  };
+  for (const auto& c : cases) {
+    const Result made = Sh(c.make);
+    ASSERT_EQ(made.status, 0) << c.make << ": " << made.output;
+    const Result r = Sh(Replay(dir + "/" + c.name, dir + "/out"));
+    std::printf("[ replay ] %s: exit %d after %.1f s: %s", c.name.c_str(), r.status, r.seconds,
+                r.output.c_str());
+    EXPECT_EQ(r.status, 2) << c.name;
+    EXPECT_NE(r.output.find(c.needle), std::string::npos) << c.name << ": " << r.output;
+    EXPECT_LT(r.seconds, 60.0) << c.name;
+  }
+}
+
+// Headless rviz on the sample bag: the capture shows the removed boom points (magenta) and the
+// reference points both cameras see (red), the colours config/rviz/aar.rviz gives them.
+TEST(Capture, ScreenshotShowsTheConfiguredColours) {
+  const std::string out = ::testing::TempDir() + "/capture_sample";
+  std::filesystem::remove_all(out);
+  const Result r = Sh("timeout 400 " + kRoot + "/scripts/capture --no-build " + kRoot +
+                      "/rosbags/sample_contact.bag --frames 6 --out " + out);
+  std::printf("%s", r.output.c_str());
+  ASSERT_EQ(r.status, 0);
+  const std::string png = out + "/frame_006.png";
+  ASSERT_TRUE(std::filesystem::exists(png));
+  // Pixels of each colour in the 3D view (right of the image panels), counted by Pillow.
+  const Result counts =
+      Sh("/usr/bin/python3 -c \"from PIL import Image\n"
+         "im = Image.open('" +
+         png +
+         "').convert('RGB'); w, h = im.size; px = im.load()\n"
+         "m = r = 0\n"
+         "for y in range(h):\n"
+         "  for x in range(w // 4, w):\n"
+         "    R, G, B = px[x, y]\n"
+         "    m += R > 220 and G < 40 and B > 220\n"
+         "    r += R > 220 and G < 40 and B < 40\n"
+         "print(m, r)\"");
+  ASSERT_EQ(counts.status, 0) << counts.output;
+  int magenta = 0, red = 0;
+  ASSERT_EQ(std::sscanf(counts.output.c_str(), "%d %d", &magenta, &red), 2) << counts.output;
+  std::printf("[ capture ] %s: %d magenta (boom points), %d red (reference, both cameras)\n",
+              png.c_str(), magenta, red);
+  EXPECT_GT(magenta, 50);
+  EXPECT_GT(red, 500);
+}
+
+}  // namespace

@@ -1,0 +1,224 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <map>
+#include <mutex>
+
+#include <ros/ros.h>
+#include <rosgraph_msgs/Log.h>
+#include <sensor_msgs/CameraInfo.h>
+#include <sensor_msgs/Image.h>
+#include <sensor_msgs/PointCloud2.h>
+#include <sensor_msgs/image_encodings.h>
+#include <sensor_msgs/point_cloud2_iterator.h>
+#include <stereo_msgs/DisparityImage.h>
+#include "aar_testing/stamped_collector.h"
+
+namespace {
+
+template <typename Msg>
+using Collector = aar_testing::StampedCollector<Msg>;
+
+const float* Floats(const sensor_msgs::Image& image, int v) {
+  return reinterpret_cast<const float*>(&image.data[static_cast<size_t>(v) * image.step]);
+}
+
+TEST(Compare, DisparityAndCloudMatchStereoImageProc) {
+  ros::NodeHandle nh;
+  Collector<stereo_msgs::DisparityImage> ours(nh, "/stereo/disparity"),
+      theirs(nh, "/sip/disparity");
+  Collector<sensor_msgs::PointCloud2> our_points(nh, "/stereo/points2"),
+      their_points(nh, "/sip/points2");
+  // Common stamps of all four outputs; 3 frames.
+  std::vector<ros::Time> common;
+  const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(150.0);
+  while (ros::WallTime::now() < deadline && common.size() < 3) {
+    ros::WallDuration(0.2).sleep();
+    std::lock_guard<std::mutex> a(ours.mutex), b(theirs.mutex), c(our_points.mutex),
+        d(their_points.mutex);
+    common.clear();
+    for (const auto& [stamp, msg] : ours.by_stamp) {
+      if (theirs.by_stamp.count(stamp) && our_points.by_stamp.count(stamp) &&
+          their_points.by_stamp.count(stamp)) {
+        common.push_back(stamp);
+      }
+    }
+  }
+  ASSERT_GE(common.size(), 3u) << "fewer than 3 frames processed by both within 150 s";
+
+  for (const ros::Time& stamp : common) {
+    const auto& a = ours.by_stamp.at(stamp)->image;
+    const auto& b = theirs.by_stamp.at(stamp)->image;
+    ASSERT_EQ(a.width, b.width);
+    ASSERT_EQ(a.height, b.height);
+    long valid = 0, agree = 0;
+    for (uint32_t v = 0; v < a.height; ++v) {
+      const float *ra = Floats(a, v), *rb = Floats(b, v);
+      for (uint32_t u = 0; u < a.width; ++u) {
+        const bool va = ra[u] >= 0.0f,
+                   vb = rb[u] >= 0.0f;  // both mark invalid as min_disparity - 1 = -1
+        if (!va && !vb) continue;
+        ++valid;
+        agree += va && vb && std::abs(ra[u] - rb[u]) < 1e-4f;
+      }
+    }
+    const double agreement = static_cast<double>(agree) / valid;
+    std::printf("[ compare ] frame %.1f: %ld valid disparity pixels, %.4f%% identical\n",
+                stamp.toSec(), valid, 100.0 * agreement);
+    EXPECT_GT(valid, 10000);
+    EXPECT_GE(agreement, 0.999);
+
+    // Organized clouds, pixel for pixel: where both have a point, within 1 mm.
+    const auto& pa = *our_points.by_stamp.at(stamp);
+    const auto& pb = *their_points.by_stamp.at(stamp);
+    ASSERT_EQ(pa.width * pa.height, pb.width * pb.height);
+    sensor_msgs::PointCloud2ConstIterator<float> xa(pa, "x"), xb(pb, "x");
+    long both = 0, within = 0, only_one = 0;
+    double worst = 0.0;
+    for (size_t i = 0; i < static_cast<size_t>(pa.width) * pa.height; ++i, ++xa, ++xb) {
+      const bool fa = std::isfinite(xa[2]), fb = std::isfinite(xb[2]);
+      if (fa != fb) ++only_one;
+      if (!fa || !fb) continue;
+      ++both;
+      const double d =
+          std::sqrt((xa[0] - xb[0]) * (xa[0] - xb[0]) + (xa[1] - xb[1]) * (xa[1] - xb[1]) +
+                    (xa[2] - xb[2]) * (xa[2] - xb[2]));
+      worst = std::max(worst, d);
+      within += d < 1e-3;
+    }
+    std::printf(
+        "[ compare ] frame %.1f: %ld points in both clouds, largest difference %.3g m, %ld in one "
+        "only\n",
+        stamp.toSec(), both, worst, only_one);
+    EXPECT_EQ(within, both);
+    EXPECT_LE(only_one, valid / 1000);
+  }
+}
+
+// A textured 160x120 pair seen 8 px apart, and its camera infos.
+struct Pair {
+  sensor_msgs::Image left, right;
+  sensor_msgs::CameraInfo left_info, right_info;
+};
+
+Pair GoodPair(const ros::Time& stamp) {
+  Pair p;
+  for (auto* image : {&p.left, &p.right}) {
+    image->header.stamp = stamp;
+    image->header.frame_id = "stereo_left_optical";
+    image->width = 160;
+    image->height = 120;
+    image->encoding = sensor_msgs::image_encodings::MONO8;
+    image->step = 160;
+    image->data.resize(160 * 120);
+  }
+  uint32_t state = 12345;
+  for (int v = 0; v < 120; ++v)
+    for (int u = 0; u < 168; ++u) {
+      state = state * 1664525u + 1013904223u;
+      const uint8_t value = static_cast<uint8_t>(40 + (state >> 24) % 170);
+      if (u < 160) p.left.data[v * 160 + u] = value;  // right(u) = left(u + 8)
+      if (u >= 8) p.right.data[v * 160 + u - 8] = value;
+    }
+  for (auto* info : {&p.left_info, &p.right_info}) {
+    info->header = p.left.header;
+    info->width = 160;
+    info->height = 120;
+    info->P = {100.0, 0, 79.5, 0, 0, 100.0, 59.5, 0, 0, 0, 1, 0};
+  }
+  p.right_info.P[3] = -100.0 * 0.5;
+  return p;
+}
+
+struct BadInputFixture {
+  ros::NodeHandle nh;
+  ros::Publisher left = nh.advertise<sensor_msgs::Image>("/bad/left/image_rect", 5);
+  ros::Publisher right = nh.advertise<sensor_msgs::Image>("/bad/right/image_rect", 5);
+  ros::Publisher left_info = nh.advertise<sensor_msgs::CameraInfo>("/bad/left/camera_info", 5);
+  ros::Publisher right_info = nh.advertise<sensor_msgs::CameraInfo>("/bad/right/camera_info", 5);
+  Collector<sensor_msgs::PointCloud2> points{nh, "/bad/points2"};
+  std::mutex log_mutex;
+  std::vector<std::string> errors;
+  ros::Subscriber rosout = nh.subscribe<rosgraph_msgs::Log>(
+      "/rosout", 100, [this](const rosgraph_msgs::Log::ConstPtr& m) {
+        if (m->level >= rosgraph_msgs::Log::ERROR && m->name == "/bad/aar_stereo") {
+          std::lock_guard<std::mutex> lock(log_mutex);
+          errors.push_back(m->msg);
+        }
+      });
+
+  void Publish(const Pair& p) {
+    left.publish(p.left);
+    left_info.publish(p.left_info);
+    right.publish(p.right);
+    right_info.publish(p.right_info);
+  }
+  // True once an error containing `text` was logged, within `seconds`.
+  bool ErrorLogged(const std::string& text, double seconds) {
+    const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(seconds);
+    while (ros::WallTime::now() < deadline) {
+      {
+        std::lock_guard<std::mutex> lock(log_mutex);
+        for (const auto& e : errors)
+          if (e.find(text) != std::string::npos) return true;
+      }
+      ros::WallDuration(0.05).sleep();
+    }
+    return false;
+  }
+};
+
+TEST(BadInput, ErrorsAreNamedFramesSkippedNodeAlive) {
+  BadInputFixture f;
+  // Wait for the node to subscribe (lazily, once points2 has our subscriber).
+  const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(20.0);
+  auto connected = [&f] {
+    return f.left.getNumSubscribers() > 0 && f.right.getNumSubscribers() > 0 &&
+           f.left_info.getNumSubscribers() > 0 && f.right_info.getNumSubscribers() > 0 &&
+           f.rosout.getNumPublishers() > 0;
+  };
+  while (ros::WallTime::now() < deadline && !connected()) ros::WallDuration(0.05).sleep();
+  ASSERT_TRUE(connected()) << "aar_stereo never subscribed to all four inputs";
+  ros::WallDuration(0.5).sleep();
+  double t = 100.0;
+
+  Pair sizes = GoodPair(ros::Time(t += 1));
+  sizes.right.width = 80;
+  sizes.right.step = 80;
+  sizes.right.data.resize(80 * 120);
+  f.Publish(sizes);
+  EXPECT_TRUE(f.ErrorLogged("left image is 160x120, right 80x120", 5.0));
+
+  Pair color = GoodPair(ros::Time(t += 1));
+  color.left.encoding = sensor_msgs::image_encodings::RGB8;
+  f.Publish(color);
+  EXPECT_TRUE(f.ErrorLogged("encoding 'rgb8'", 7.0));
+
+  Pair no_p = GoodPair(ros::Time(t += 1));
+  no_p.left_info.P.fill(0.0);
+  f.Publish(no_p);
+  EXPECT_TRUE(f.ErrorLogged("no valid projection matrix P", 7.0));
+  EXPECT_EQ(f.points.size(), 0u) << "a bad frame produced a cloud";
+
+  // Stamps that never match: right half a second behind, for 7 s.
+  for (int i = 0; i < 35; ++i) {
+    Pair apart = GoodPair(ros::Time(t += 1));
+    apart.right.header.stamp += ros::Duration(0.5);
+    apart.right_info.header.stamp += ros::Duration(0.5);
+    f.Publish(apart);
+    ros::WallDuration(0.2).sleep();
+  }
+  EXPECT_TRUE(f.ErrorLogged("stamps never match", 5.0));
+  EXPECT_EQ(f.points.size(), 0u);
+
+  // Still alive: a good frame gives a cloud.
+  const ros::Time good(t += 1);
+  f.Publish(GoodPair(good));
+  const ros::WallTime until = ros::WallTime::now() + ros::WallDuration(5.0);
+  while (ros::WallTime::now() < until && f.points.size() == 0) ros::WallDuration(0.05).sleep();
+  ASSERT_EQ(f.points.size(), 1u) << "no cloud for a good frame after the bad ones";
+  std::lock_guard<std::mutex> lock(f.points.mutex);
+  EXPECT_GT(f.points.by_stamp.at(good)->width, 100u);
+}
+
+}  // namespace

@@ -1,0 +1,156 @@
+// bench_stereo: on simulated frames along the default approach (1280x960, boom shown),
+//  1. receiver and boom points per frame after decimation, told apart by the simulator's labels;
+//  2. per-frame latency of aar_stereo and of stereo_image_proc's processor (disparity + points2)
+//     on the same pair with the same block-matching settings, side by side;
+//  3. aar_stereo matching only a region of interest around the predicted receiver and boom
+//     projection (here from truth, standing in for the last estimate), its speedup and the
+//     receiver points it keeps.
+//   bench_stereo [FRAMES] [REPEATS] [CSV]
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <string>
+
+#include <aar_description/boom_model.h>
+#include <aar_geometry/robot_model.h>
+#include <aar_stereo/stereo.h>
+#include <aar_testing/sim_stereo.h>
+#include <aar_testing/timing.h>
+#include <image_geometry/stereo_camera_model.h>
+#include <sensor_msgs/PointCloud2.h>
+#include <stereo_image_proc/processor.h>
+#include <stereo_msgs/DisparityImage.h>
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+sensor_msgs::CameraInfo Info(const aar_sim::CameraIntrinsics& k, double Tx) {
+  sensor_msgs::CameraInfo info;
+  info.header.frame_id = "stereo_left_optical";
+  info.width = k.width;
+  info.height = k.height;
+  info.K = {k.fx, 0, k.cx, 0, k.fy, k.cy, 0, 0, 1};
+  info.R = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+  info.P = {k.fx, 0, k.cx, Tx, 0, k.fy, k.cy, 0, 0, 0, 1, 0};
+  info.D.assign(5, 0.0);
+  info.distortion_model = "plumb_bob";
+  return info;
+}
+
+struct Counts {
+  int receiver = 0, boom = 0, other = 0;
+};
+
+Counts Count(const aar_stereo::CloudPoints& cloud, const aar_sim::Image<uint8_t>& label) {
+  Counts c;
+  for (int px : cloud.pixel) {
+    const uint8_t l = label.data[px];
+    (l == static_cast<uint8_t>(aar_sim::Label::kReceiver) ? c.receiver
+     : l == static_cast<uint8_t>(aar_sim::Label::kBoom)   ? c.boom
+                                                          : c.other)++;
+  }
+  return c;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const int frames = argc > 1 ? std::stoi(argv[1]) : 12;
+  const int repeats = argc > 2 ? std::stoi(argv[2]) : 5;
+  const std::string csv = argc > 3 ? argv[3] : "";
+  try {
+    aar_sim::WorldOptions w = aar_testing::SimStereo::DefaultWorld();
+    // AAR_RIG_Y [m] moves the rig sideways (default 1 m left of the boom plane, as aar_sim's).
+    const double rig_y = std::getenv("AAR_RIG_Y") ? std::stod(std::getenv("AAR_RIG_Y")) : 1.0;
+    w.rig = aar_sim::MakeStereoRig(aar_sim::CameraIntrinsics::FromHorizontalFov(1280, 960, 60.0),
+                                   0.5, {-20.0, rig_y, -3.0});
+    const aar_stereo::StereoOptions options;  // thesis defaults: BM 9 / 48, every 8th point
+    aar_testing::SimStereo sim(w, options);
+    aar_sim::World& world = sim.world();
+    const auto path = aar_sim::FlightPath::Load(aar_testing::DefaultApproachPath());
+    const aar_sim::CameraIntrinsics& k = w.rig.intrinsics;
+    const aar_stereo::StereoGeometry& g = sim.geometry();
+    aar_stereo::StereoOptions all = options;
+    all.decimation = aar_stereo::Decimation::kNone;
+    const aar_stereo::StereoProcessor ours(options), ours_all(all);
+
+    stereo_image_proc::StereoProcessor sip;
+    sip.setStereoType(stereo_image_proc::StereoProcessor::BM);
+    sip.setCorrelationWindowSize(options.block_size);
+    sip.setDisparityRange(options.num_disparities);
+    sip.setMinDisparity(options.min_disparity);
+    sip.setPreFilterSize(options.prefilter_size);
+    sip.setPreFilterCap(options.prefilter_cap);
+    sip.setTextureThreshold(options.texture_threshold);
+    sip.setUniquenessRatio(options.uniqueness_ratio);
+    sip.setSpeckleSize(options.speckle_window_size);
+    sip.setSpeckleRange(options.speckle_range);
+    image_geometry::StereoCameraModel model;
+    model.fromCameraInfo(Info(k, 0.0), Info(k, g.Tx));
+
+    // Boom collision geometry (link frames) for the region of interest.
+    std::ofstream out;
+    if (!csv.empty()) {
+      out.open(csv);
+      out << "t,range_m,receiver_points,boom_points,other_points,aar_stereo_ms,stereo_image_proc_"
+             "ms,roi_ms,"
+             "roi_fraction,receiver_valid_full,receiver_valid_roi\n";
+    }
+    std::printf("%6s %8s %9s %6s %6s %9s %9s %8s %8s %8s %10s %10s\n", "t[s]", "range[m]",
+                "receiver", "boom", "other", "aar[ms]", "sip[ms]", "roi[ms]", "speedup", "roi area",
+                "rcv full", "rcv roi");
+    for (int i = 0; i < frames; ++i) {
+      const double t =
+          path.start_time() + (path.end_time() - path.start_time()) * i / std::max(1, frames - 1);
+      const aar_sim::FlightPathRow row = path.At(t);
+      const aar_sim::StereoFrame f =
+          world.Render(row, aar_description::DefaultBoomPose(), i, true, false);
+      const cv::Mat left = sim.Left(f), right = sim.Right(f);
+
+      const aar_stereo::StereoResult result = ours.Process(left, right, g);
+      const Counts counts = Count(result.cloud, f.left.label);
+      const double ours_ms = aar_testing::MedianMs(repeats, [&] { ours.Process(left, right, g); });
+      const double sip_ms = aar_testing::MedianMs(repeats, [&] {
+        stereo_msgs::DisparityImage disparity;
+        sensor_msgs::PointCloud2 points;
+        sip.processDisparity(left, right, model, disparity);
+        sip.processPoints2(disparity, left, "mono8", model, points);
+      });
+
+      // Region of interest: receiver bounding-box corners and boom collision vertices.
+      const Eigen::Isometry3d T_optical_tanker = w.rig.T_tanker_left_optical.inverse();
+      std::vector<Eigen::Vector3d> predicted;
+      const Eigen::AlignedBox3d box = world.receiver_mesh().Bounds();
+      for (int c = 0; c < 8; ++c) {
+        predicted.push_back(T_optical_tanker * f.T_tanker_receiver *
+                            box.corner(static_cast<Eigen::AlignedBox3d::CornerType>(c)));
+      }
+      const auto boom = aar_geometry::RobotMesh(world.boom_model(), f.T_tanker_links,
+                                                aar_geometry::GeometryKind::kCollision);
+      for (const auto& v : boom.vertices) predicted.push_back(T_optical_tanker * v);
+      const cv::Rect roi = aar_stereo::ProjectedRoi(predicted, g, 16);
+      const double roi_ms =
+          aar_testing::MedianMs(repeats, [&] { ours.Process(left, right, g, roi); });
+      const Counts full_all = Count(ours_all.Process(left, right, g).cloud, f.left.label);
+      const Counts roi_all = Count(ours_all.Process(left, right, g, roi).cloud, f.left.label);
+      const double area = static_cast<double>(roi.area()) / (k.width * k.height);
+
+      std::printf("%6.1f %8.1f %9d %6d %6d %9.1f %9.1f %8.1f %8.2f %7.1f%% %10d %10d\n", t,
+                  row.position_m.norm(), counts.receiver, counts.boom, counts.other, ours_ms,
+                  sip_ms, roi_ms, ours_ms / roi_ms, 100.0 * area, full_all.receiver,
+                  roi_all.receiver);
+      if (out) {
+        out << t << ',' << row.position_m.norm() << ',' << counts.receiver << ',' << counts.boom
+            << ',' << counts.other << ',' << ours_ms << ',' << sip_ms << ',' << roi_ms << ','
+            << area << ',' << full_all.receiver << ',' << roi_all.receiver << '\n';
+      }
+    }
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "bench_stereo: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}
