@@ -16,6 +16,7 @@
 #include <aar_sim/camera.h>
 #include <aar_testing/paths.h>
 #include <aar_testing/stamped_collector.h>
+#include <aar_testing/wait.h>
 #include <diagnostic_msgs/DiagnosticArray.h>
 #include <ros/ros.h>
 #include <sensor_msgs/JointState.h>
@@ -137,15 +138,7 @@ std::vector<double> Truth(const sensor_msgs::PointCloud2& msg) {
   return aar_ros_common::ReadField(msg, "truth", cloud.indices);
 }
 
-template <typename Pred>
-bool WaitFor(Pred&& pred, double seconds) {
-  const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(seconds);
-  while (!pred()) {
-    if (ros::WallTime::now() > deadline) return false;
-    ros::WallDuration(0.02).sleep();
-  }
-  return true;
-}
+using aar_testing::WaitFor;
 
 struct Diagnostics {
   std::mutex mutex;

@@ -10,6 +10,7 @@
 #include <tf2_ros/static_transform_broadcaster.h>
 #include <tf2_ros/transform_listener.h>
 #include "aar_testing/stamped_collector.h"
+#include "aar_testing/wait.h"
 
 #include <cstdlib>
 #include <fstream>
@@ -23,8 +24,7 @@ TEST(NearContact, NoBoomErrorsUnderTenCentimetresAndOneDegree) {
   aar_testing::StampedCollector<aar_msgs::PoseError> errors(nh, "/aar/pose_error");
   tf2_ros::Buffer tf(ros::Duration(120.0));
   tf2_ros::TransformListener listener(tf);
-  const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(200.0);
-  while (ros::WallTime::now() < deadline && estimates.size() < 20) ros::WallDuration(0.1).sleep();
+  aar_testing::WaitFor([&] { return estimates.size() >= 20; }, 200.0);
   ASSERT_GE(estimates.size(), 18u) << "estimates for fewer than 18 of 20 frames";
 
   double position = 0.0, orientation = 0.0;
@@ -127,23 +127,18 @@ TEST(BadInput, ErrorsNamedNoEstimateNodeAlive) {
   aar_testing::StampedCollector<aar_msgs::PoseEstimate> estimates(nh, "/aar/pose_estimate");
   tf2_ros::StaticTransformBroadcaster static_tf;
   static_tf.sendTransform(SensorMount());
-  const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(30.0);
-  while (ros::WallTime::now() < deadline &&
-         (clouds.getNumSubscribers() == 0 || rosout.getNumPublishers() == 0)) {
-    ros::WallDuration(0.05).sleep();
-  }
+  aar_testing::WaitFor(
+      [&] { return clouds.getNumSubscribers() > 0 && rosout.getNumPublishers() > 0; }, 30.0);
   ASSERT_GT(clouds.getNumSubscribers(), 0u);
   auto logged = [&](const std::string& text) {
-    const ros::WallTime until = ros::WallTime::now() + ros::WallDuration(5.0);
-    while (ros::WallTime::now() < until) {
-      {
-        std::lock_guard<std::mutex> lock(mutex);
-        for (const auto& e : errors)
-          if (e.find(text) != std::string::npos) return true;
-      }
-      ros::WallDuration(0.05).sleep();
-    }
-    return false;
+    return aar_testing::WaitFor(
+        [&] {
+          std::lock_guard<std::mutex> lock(mutex);
+          for (const auto& e : errors)
+            if (e.find(text) != std::string::npos) return true;
+          return false;
+        },
+        5.0);
   };
   const float nan = std::numeric_limits<float>::quiet_NaN();
   clouds.publish(Cloud("sensor", {}));
@@ -170,9 +165,7 @@ TEST(BadInput, ErrorsNamedNoEstimateNodeAlive) {
   // Alive: a cloud of the receiver's shape 35 m aft gives an estimate near there.
   const std::vector<Eigen::Vector3f> shape = ReceiverShape();
   clouds.publish(Cloud("sensor", shape));
-  const ros::WallTime until = ros::WallTime::now() + ros::WallDuration(10.0);
-  while (ros::WallTime::now() < until && estimates.size() == invalid)
-    ros::WallDuration(0.05).sleep();
+  aar_testing::WaitFor([&] { return estimates.size() > invalid; }, 10.0);
   ASSERT_EQ(estimates.size(), invalid + 1);
   std::lock_guard<std::mutex> lock(estimates.mutex);
   const auto& good = estimates.by_stamp.rbegin()->second;
@@ -189,12 +182,12 @@ TEST(TopicReference, PairsByStampUsesClassZeroAndAnswersWithoutReference) {
   aar_testing::StampedCollector<aar_msgs::PoseEstimate> estimates(nh, "/aar/pose_estimate");
   tf2_ros::StaticTransformBroadcaster static_tf;
   static_tf.sendTransform(SensorMount());
-  const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(30.0);
-  while (ros::WallTime::now() < deadline &&
-         (clouds.getNumSubscribers() == 0 || references.getNumSubscribers() == 0 ||
-          estimates.sub.getNumPublishers() == 0)) {
-    ros::WallDuration(0.05).sleep();
-  }
+  aar_testing::WaitFor(
+      [&] {
+        return clouds.getNumSubscribers() > 0 && references.getNumSubscribers() > 0 &&
+               estimates.sub.getNumPublishers() > 0;
+      },
+      30.0);
   ASSERT_GT(references.getNumSubscribers(), 0u);
   auto wait_for = [&](const ros::Time& stamp) {
     const ros::WallTime until = ros::WallTime::now() + ros::WallDuration(10.0);

@@ -22,6 +22,7 @@
 #include "aar_sim/ros/sim_node.h"
 #include "aar_testing/paths.h"
 #include "aar_testing/stamped_collector.h"
+#include "aar_testing/wait.h"
 
 namespace aar_sim {
 
@@ -41,11 +42,8 @@ TEST(Sim, StereoPairsCameraInfosAndTruth) {
   Collector<sensor_msgs::JointState> joints(nh, "joint_states");
   tf2_ros::Buffer tf_buffer;
   tf2_ros::TransformListener tf_listener(tf_buffer);
-  const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(60.0);
-  while (ros::WallTime::now() < deadline &&
-         (left.size() < 4 || right_info.size() < 4 || joints.size() < 4)) {
-    ros::WallDuration(0.05).sleep();
-  }
+  aar_testing::WaitFor(
+      [&] { return left.size() >= 4 && right_info.size() >= 4 && joints.size() >= 4; }, 60.0);
   ros::WallDuration(0.5).sleep();  // let tf catch up with the last frames
   ASSERT_GE(left.size(), 4u) << "fewer than 4 stereo frames in 60 s";
 
@@ -170,8 +168,7 @@ TEST(Lockstep, NextFrameOnlyAfterTheEstimate) {
       right(nh, "stereo/right/image_rect");
   ros::Publisher estimates = nh.advertise<aar_msgs::PoseEstimate>("aar/pose_estimate", 10);
   auto wait_for = [&](size_t n, double seconds) {
-    const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(seconds);
-    while (ros::WallTime::now() < deadline && left.size() < n) ros::WallDuration(0.02).sleep();
+    aar_testing::WaitFor([&] { return left.size() >= n; }, seconds);
     return left.size();
   };
   ASSERT_EQ(wait_for(1, 30.0), 1u) << "no first frame";

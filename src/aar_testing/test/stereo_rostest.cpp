@@ -13,6 +13,7 @@
 #include <sensor_msgs/point_cloud2_iterator.h>
 #include <stereo_msgs/DisparityImage.h>
 #include "aar_testing/stamped_collector.h"
+#include "aar_testing/wait.h"
 
 namespace {
 
@@ -155,29 +156,26 @@ struct BadInputFixture {
   }
   // True once an error containing `text` was logged, within `seconds`.
   bool ErrorLogged(const std::string& text, double seconds) {
-    const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(seconds);
-    while (ros::WallTime::now() < deadline) {
-      {
-        std::lock_guard<std::mutex> lock(log_mutex);
-        for (const auto& e : errors)
-          if (e.find(text) != std::string::npos) return true;
-      }
-      ros::WallDuration(0.05).sleep();
-    }
-    return false;
+    return aar_testing::WaitFor(
+        [&] {
+          std::lock_guard<std::mutex> lock(log_mutex);
+          for (const auto& e : errors)
+            if (e.find(text) != std::string::npos) return true;
+          return false;
+        },
+        seconds);
   }
 };
 
 TEST(BadInput, ErrorsAreNamedFramesSkippedNodeAlive) {
   BadInputFixture f;
   // Wait for the node to subscribe (lazily, once points2 has our subscriber).
-  const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(20.0);
   auto connected = [&f] {
     return f.left.getNumSubscribers() > 0 && f.right.getNumSubscribers() > 0 &&
            f.left_info.getNumSubscribers() > 0 && f.right_info.getNumSubscribers() > 0 &&
            f.rosout.getNumPublishers() > 0;
   };
-  while (ros::WallTime::now() < deadline && !connected()) ros::WallDuration(0.05).sleep();
+  aar_testing::WaitFor(connected, 20.0);
   ASSERT_TRUE(connected()) << "aar_stereo never subscribed to all four inputs";
   ros::WallDuration(0.5).sleep();
   double t = 100.0;
@@ -214,8 +212,7 @@ TEST(BadInput, ErrorsAreNamedFramesSkippedNodeAlive) {
   // Still alive: a good frame gives a cloud.
   const ros::Time good(t += 1);
   f.Publish(GoodPair(good));
-  const ros::WallTime until = ros::WallTime::now() + ros::WallDuration(5.0);
-  while (ros::WallTime::now() < until && f.points.size() == 0) ros::WallDuration(0.05).sleep();
+  aar_testing::WaitFor([&] { return f.points.size() > 0; }, 5.0);
   ASSERT_EQ(f.points.size(), 1u) << "no cloud for a good frame after the bad ones";
   std::lock_guard<std::mutex> lock(f.points.mutex);
   EXPECT_GT(f.points.by_stamp.at(good)->width, 100u);
