@@ -45,7 +45,6 @@ std::string Prefixed(std::string geometry, const std::string& prefix) {
 
 std::vector<Part> CollisionParts() {
   const double half_pi = M_PI / 2.0;
-  const double v = DegToRad(kRuddevatorDihedral);
 
   return {
       {"pivot_fairing", "boom", "<box size=\"1.2 0.9 0.6\"/>", -0.4, 0.0, 0.15, 0, 0, 0},
