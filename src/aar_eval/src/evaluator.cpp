@@ -17,6 +17,11 @@ double ToSec(int64_t stamp_ns) {
          1e-9 * static_cast<double>(stamp_ns % 1000000000);
 }
 
+// |x, y, z| of a frame's position error [m].
+double PositionError(const FrameRecord& f) {
+  return std::sqrt(f.error[0] * f.error[0] + f.error[1] * f.error[1] + f.error[2] * f.error[2]);
+}
+
 }  // namespace
 
 Evaluator::FrameStatus Evaluator::AddFrame(int64_t stamp_ns) {
@@ -78,8 +83,7 @@ std::vector<SettledFrame> Evaluator::Settle(int64_t before_ns, const TruthLookup
         f.iterations = est.iterations;
         f.rms = est.rms;
         f.registration_ms = est.registration_ms;
-        position_sum_ +=
-            std::sqrt(f.error[0] * f.error[0] + f.error[1] * f.error[1] + f.error[2] * f.error[2]);
+        position_sum_ += PositionError(f);
         ++estimated_;
       }
       estimates_.erase(it);
@@ -92,15 +96,13 @@ std::vector<SettledFrame> Evaluator::Settle(int64_t before_ns, const TruthLookup
 }
 
 std::string Evaluator::ProgressLine(const FrameRecord& f) const {
-  const double position =
-      std::sqrt(f.error[0] * f.error[0] + f.error[1] * f.error[1] + f.error[2] * f.error[2]);
   std::ostringstream line;
   line << "eval: frame " << records_.size()
        << (expected_frames_ > 0 ? " of " + std::to_string(expected_frames_) : "") << ", "
        << std::fixed << std::setprecision(1) << f.range_m << " m (region "
        << aar_geometry::RegionName(f.region) << "): " << std::setprecision(3);
   if (f.estimated)
-    line << "error " << position << " m";
+    line << "error " << PositionError(f) << " m";
   else
     line << "MISSED";
   if (estimated_ > 0)

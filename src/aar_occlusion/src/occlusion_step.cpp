@@ -38,8 +38,12 @@ OcclusionStep::OcclusionStep(const OcclusionStepOptions& options,
 
 OcclusionStep::~OcclusionStep() = default;
 
+bool OcclusionStep::UsesBoom(bool volumes_wanted) const {
+  return options_.cull != CullMethod::kNone || reference_ || volumes_wanted;
+}
+
 bool OcclusionStep::NeedsLinks(bool volumes_wanted) const {
-  return boom_ && (options_.cull != CullMethod::kNone || reference_ || volumes_wanted);
+  return boom_ && UsesBoom(volumes_wanted);
 }
 
 std::vector<std::string> OcclusionStep::boom_links() const {
@@ -49,8 +53,7 @@ std::vector<std::string> OcclusionStep::boom_links() const {
 OcclusionResult OcclusionStep::Process(const OcclusionInput& in) {
   OcclusionResult r;
   // Place the boom; without it this frame passes through unculled.
-  const bool needed = options_.cull != CullMethod::kNone || reference_ || in.volumes_wanted;
-  if (!needed) {
+  if (!UsesBoom(in.volumes_wanted)) {
     // Nothing to do with the boom: the cloud passes through as configured.
   } else if (!boom_) {
     r.cull_error = boom_error_;
@@ -69,16 +72,15 @@ OcclusionResult OcclusionStep::Process(const OcclusionInput& in) {
 
   std::vector<bool> is_boom(in.points.size(), false);
   if (r.boom_placed) is_boom = boom_->Cull(in.points, options_.cull);
-  std::vector<Eigen::Vector3d> kept_points;
-  for (size_t i = 0; i < in.points.size(); ++i) {
-    (is_boom[i] ? r.removed : r.kept).push_back(i);
-    if (!is_boom[i]) kept_points.push_back(in.points[i]);
-  }
+  for (size_t i = 0; i < in.points.size(); ++i) (is_boom[i] ? r.removed : r.kept).push_back(i);
 
   if (reference_) {
     std::optional<Eigen::Isometry3d> T_tanker_receiver = in.T_tanker_receiver_predicted;
-    if (!T_tanker_receiver && !kept_points.empty())
+    if (!T_tanker_receiver && !r.kept.empty()) {
+      std::vector<Eigen::Vector3d> kept_points;
+      for (const size_t i : r.kept) kept_points.push_back(in.points[i]);
       T_tanker_receiver = aar_geometry::CentroidSeed(kept_points, {Eigen::Vector3d::Zero()});
+    }
     try {
       if (!T_tanker_receiver) throw std::runtime_error("no predicted pose: no estimate, no points");
       r.T_tanker_receiver = *T_tanker_receiver;

@@ -84,6 +84,9 @@ class OcclusionStep {
   size_t reference_samples() const { return reference_ ? reference_->size() : 0; }
 
  private:
+  // Culling, the reference or someone showing the volumes needs the boom placed.
+  bool UsesBoom(bool volumes_wanted) const;
+
   OcclusionStepOptions options_;
   std::unique_ptr<BoomOcclusion> boom_;
   std::string boom_error_;  // why boom_ is null, naming the link

@@ -2,6 +2,7 @@
 
 #include <cstring>
 
+#include <aar_ros_common/markers.h>
 #include <sensor_msgs/point_cloud2_iterator.h>
 
 namespace aar_occlusion {
@@ -49,30 +50,15 @@ visualization_msgs::MarkerArray ShadowMarkers(const BoomOcclusion& boom,
       const Eigen::Isometry3d& T = boom.T_tanker_part(part);
       const aar_geometry::TriangleMesh volume = ShadowVolumeMesh(
           boom.parts()[part].mesh, boom.view(e, part), T.inverse() * boom.eye(e), length);
-      visualization_msgs::Marker m;
-      m.header = header;
-      m.ns = e == 0 ? "left" : "right";
-      m.id = static_cast<int>(part);
-      m.type = visualization_msgs::Marker::TRIANGLE_LIST;
-      m.action = visualization_msgs::Marker::ADD;
-      m.pose.orientation.w = 1.0;
-      m.scale.x = m.scale.y = m.scale.z = 1.0;
-      // Left blue, right orange, both see-through.
-      m.color.r = e == 0 ? 0.2f : 1.0f;
-      m.color.g = e == 0 ? 0.4f : 0.5f;
-      m.color.b = e == 0 ? 1.0f : 0.1f;
-      m.color.a = 0.25f;
+      std::vector<Eigen::Vector3d> vertices;
       for (const auto& t : volume.triangles) {
-        for (int k = 0; k < 3; ++k) {
-          const Eigen::Vector3d v = T * volume.vertices[t[k]];
-          geometry_msgs::Point p;
-          p.x = v.x();
-          p.y = v.y();
-          p.z = v.z();
-          m.points.push_back(p);
-        }
+        for (int k = 0; k < 3; ++k) vertices.push_back(T * volume.vertices[t[k]]);
       }
-      markers.markers.push_back(m);
+      // Left blue, right orange, both see-through.
+      markers.markers.push_back(aar_ros_common::TriangleListMarker(
+          header, e == 0 ? "left" : "right", static_cast<int>(part), vertices,
+          e == 0 ? aar_ros_common::Rgba(0.2f, 0.4f, 1.0f, 0.25f)
+                 : aar_ros_common::Rgba(1.0f, 0.5f, 0.1f, 0.25f)));
     }
   }
   return markers;

@@ -55,7 +55,6 @@ class Registrar {
   // reference is gone either way, so a frame never registers to a stale one.
   void SetReference(std::vector<Eigen::Vector3d> points, std::vector<Eigen::Vector3d> normals);
   bool has_reference() const { return icp_.has_target(); }
-  size_t reference_size() const { return reference_points_.size(); }
 
   // Sensed points in the tanker frame at `stamp_s` [s]. Never throws: a frame without a pose
   // comes back with valid = false and the reason.

@@ -198,6 +198,7 @@ void RegistrationNode::Register(const sensor_msgs::PointCloud2::ConstPtr& msg) {
   };
   RegistrarResult result;
   try {
+    // The registrar says so too, but only after the tf wait this saves.
     if (!registrar_.has_reference()) throw std::runtime_error("no reference model yet");
     std::string error;
     const auto T_tanker_cloud = aar_ros_common::LookupTransform(
