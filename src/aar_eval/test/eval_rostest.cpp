@@ -4,6 +4,7 @@
 
 #include <aar_msgs/PoseError.h>
 #include <aar_msgs/PoseEstimate.h>
+#include <aar_ros_common/rostest_main.h>
 #include <ros/ros.h>
 #include <sensor_msgs/CameraInfo.h>
 #include <tf2_ros/static_transform_broadcaster.h>
@@ -66,9 +67,5 @@ TEST(Eval, FrameWithoutEstimateIsAMissNotACrash) {
 }
 
 int main(int argc, char** argv) {
-  testing::InitGoogleTest(&argc, argv);
-  ros::init(argc, argv, "aar_eval_rostest");
-  ros::AsyncSpinner spinner(2);
-  spinner.start();
-  return RUN_ALL_TESTS();
+  return aar_ros_common::RunRostests(argc, argv, "aar_eval_rostest");
 }

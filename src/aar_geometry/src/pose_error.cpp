@@ -10,16 +10,9 @@ Region RegionOfRange(double range_m, const RegionBounds& bounds) {
 }
 
 std::string RegionName(Region region) {
-  switch (region) {
-    case Region::kA:
-      return "A";
-    case Region::kB:
-      return "B";
-    case Region::kC:
-      return "C";
-    default:
-      return "outside";
-  }
+  static const char* const kNames[] = {"outside", "A", "B", "C"};  // by the enum's values
+  const int i = static_cast<int>(region);
+  return i >= 1 && i <= 3 ? kNames[i] : kNames[0];
 }
 
 PoseError ComputePoseError(const Eigen::Isometry3d& T_tanker_truth,

@@ -74,6 +74,23 @@ bool Occluded(RTCScene scene, RTCIntersectContext* context, const Eigen::Vector3
   return ray.tfar < 0.0f;  // Embree sets tfar to -inf when something is hit
 }
 
+// One occlusion ray per index through one intersect context: `make_ray(i, origin, direction,
+// tfar)` sets ray i and returns false to skip it. Entry i is `hit == when_hit` for a ray cast,
+// false for one skipped.
+template <typename MakeRay>
+std::vector<bool> CastEach(RTCScene scene, size_t n, bool when_hit, MakeRay make_ray) {
+  std::vector<bool> out(n, false);
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  Eigen::Vector3d origin, direction;
+  float tfar = 0.0f;
+  for (size_t i = 0; i < n; ++i) {
+    if (make_ray(i, origin, direction, tfar))
+      out[i] = Occluded(scene, &context, origin, direction, tfar) == when_hit;
+  }
+  return out;
+}
+
 }  // namespace
 
 VisibilityTester::VisibilityTester(const TriangleMesh& mesh) : bvh_(std::make_unique<Bvh>()) {
@@ -110,33 +127,31 @@ std::vector<bool> VisibilityTester::Visible(const std::vector<Eigen::Vector3d>& 
                                             const Eigen::Vector3d& eye, double tolerance) const {
   if (normals.size() != points.size())
     throw std::invalid_argument("Visible: one normal per point needed");
-  std::vector<bool> visible(points.size(), false);
-  RTCIntersectContext context;
-  rtcInitIntersectContext(&context);
-  for (size_t i = 0; i < points.size(); ++i) {
-    const Eigen::Vector3d to_point = points[i] - eye;
-    const double distance = to_point.norm();
-    if (!(distance > tolerance) || normals[i].dot(to_point) >= 0.0) continue;  // faces away
-    visible[i] = !Occluded(bvh_->scene, &context, eye, to_point / distance,
-                           static_cast<float>(distance - tolerance));
-  }
-  return visible;
+  return CastEach(bvh_->scene, points.size(), false,
+                  [&](size_t i, Eigen::Vector3d& origin, Eigen::Vector3d& d, float& tfar) {
+                    const Eigen::Vector3d to_point = points[i] - eye;
+                    const double distance = to_point.norm();
+                    if (!(distance > tolerance) || normals[i].dot(to_point) >= 0.0)
+                      return false;  // too close, or faces away: not visible
+                    origin = eye;
+                    d = to_point / distance;
+                    tfar = static_cast<float>(distance - tolerance);
+                    return true;
+                  });
 }
 
 std::vector<bool> VisibilityTester::RaysHit(const std::vector<Eigen::Vector3d>& origins,
                                             const std::vector<Eigen::Vector3d>& directions) const {
   if (origins.size() != directions.size())
     throw std::invalid_argument("RaysHit: one direction per origin needed");
-  std::vector<bool> hit(origins.size(), false);
-  RTCIntersectContext context;
-  rtcInitIntersectContext(&context);
-  for (size_t i = 0; i < origins.size(); ++i) {
-    const Eigen::Vector3d& origin = origins[i];
-    const Eigen::Vector3d& d = directions[i];
-    if (!origin.allFinite() || !d.allFinite()) continue;
-    hit[i] = Occluded(bvh_->scene, &context, origin, d, std::numeric_limits<float>::infinity());
-  }
-  return hit;
+  return CastEach(bvh_->scene, origins.size(), true,
+                  [&](size_t i, Eigen::Vector3d& origin, Eigen::Vector3d& d, float& tfar) {
+                    if (!origins[i].allFinite() || !directions[i].allFinite()) return false;
+                    origin = origins[i];
+                    d = directions[i];
+                    tfar = std::numeric_limits<float>::infinity();
+                    return true;
+                  });
 }
 
 ReferenceCloud Shell(const ReferenceCloud& dense, const VisibilityTester& receiver,

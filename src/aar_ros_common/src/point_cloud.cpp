@@ -111,32 +111,15 @@ std::vector<double> ReadField(const sensor_msgs::PointCloud2& msg, const std::st
   out.reserve(indices.size());
   sensor_msgs::PointCloud2 storage;
   const sensor_msgs::PointCloud2& cloud = Unpadded(msg, storage);
-  switch (f->datatype) {
-    case sensor_msgs::PointField::INT8:
-      Read<int8_t>(cloud, name, indices, out);
-      break;
-    case sensor_msgs::PointField::UINT8:
-      Read<uint8_t>(cloud, name, indices, out);
-      break;
-    case sensor_msgs::PointField::INT16:
-      Read<int16_t>(cloud, name, indices, out);
-      break;
-    case sensor_msgs::PointField::UINT16:
-      Read<uint16_t>(cloud, name, indices, out);
-      break;
-    case sensor_msgs::PointField::INT32:
-      Read<int32_t>(cloud, name, indices, out);
-      break;
-    case sensor_msgs::PointField::UINT32:
-      Read<uint32_t>(cloud, name, indices, out);
-      break;
-    case sensor_msgs::PointField::FLOAT32:
-      Read<float>(cloud, name, indices, out);
-      break;
-    case sensor_msgs::PointField::FLOAT64:
-      Read<double>(cloud, name, indices, out);
-      break;
-  }
+  // Indexed by PointField's datatype constants, INT8 (1) to FLOAT64 (8); CheckLayout refused
+  // any other.
+  using Reader = void (*)(const sensor_msgs::PointCloud2&, const std::string&,
+                          const std::vector<uint32_t>&, std::vector<double>&);
+  static constexpr Reader kReaders[] = {nullptr,         &Read<int8_t>,   &Read<uint8_t>,
+                                        &Read<int16_t>,  &Read<uint16_t>, &Read<int32_t>,
+                                        &Read<uint32_t>, &Read<float>,    &Read<double>};
+  static_assert(sensor_msgs::PointField::INT8 == 1 && sensor_msgs::PointField::FLOAT64 == 8);
+  kReaders[f->datatype](cloud, name, indices, out);
   return out;
 }
 

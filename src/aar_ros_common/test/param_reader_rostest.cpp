@@ -1,9 +1,12 @@
 #include <gtest/gtest.h>
+
+#include <filesystem>
 #include <functional>
 
 #include <ros/ros.h>
 
 #include "aar_ros_common/param_reader.h"
+#include "aar_ros_common/receiver_params.h"
 
 namespace aar_ros_common {
 namespace {
@@ -51,6 +54,23 @@ TEST(ParamReader, RejectsKeysNobodyRead) {
   partial.AllowSubNamespaces();
   const std::string unknown = ErrorOf([&] { partial.RejectUnknown(); });
   EXPECT_EQ(unknown, "unknown parameter /param_reader/count (misspelt?)");
+}
+
+// Set keys override, unset ones keep the caller's defaults, and the default mesh is the shipped
+// one (found through the package index, as both perception nodes find it).
+TEST(ReceiverModel, ReadsOverTheCallersDefaults) {
+  ros::NodeHandle nh("/receiver_model");
+  ParamReader params(nh);
+  aar_geometry::ReferenceModelOptions sampling;
+  sampling.points_per_m2 = 127.0;
+  sampling.seed = 4;
+  const std::string mesh = LoadReceiverModel(params, sampling);
+  EXPECT_EQ(sampling.points_per_m2, 50.0);
+  EXPECT_EQ(sampling.seed, 4u);
+  EXPECT_EQ(sampling.visibility_tolerance, 0.02);
+  EXPECT_TRUE(std::filesystem::exists(mesh)) << mesh;
+  EXPECT_NE(mesh.find("aar_description/models/receiver.obj"), std::string::npos) << mesh;
+  EXPECT_EQ(ErrorOf([&] { params.RejectUnknown(); }), "");
 }
 
 }  // namespace

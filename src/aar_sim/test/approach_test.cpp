@@ -20,8 +20,9 @@ using aar_description::BoomJointPositions;
 using aar_description::DefaultBoomPose;
 using aar_description::ReceptacleInReceiver;
 const std::string kModels = ros::package::getPath("aar_description") + "/models";
+// The shipped approach, in the workspace's config/ (the repository root is the workspace).
 const std::string kApproach =
-    std::string(AAR_WORKSPACE_CONFIG_DIR) + "/flight_paths/approach_default.csv";
+    ros::package::getPath("aar_sim") + "/../../config/flight_paths/approach_default.csv";
 
 aar_geometry::RobotModel LoadBoom() {
   aar_geometry::RobotModelOptions options;

@@ -48,6 +48,13 @@ std::pair<cv::Mat, cv::Mat> PlanesPair(const StereoGeometry& g, uint64_t seed) {
   return {left, right};
 }
 
+// Every valid pixel's point, the decimation the checks below compare against.
+StereoOptions AllPoints() {
+  StereoOptions o;
+  o.decimation = Decimation::kNone;
+  return o;
+}
+
 // Per plane: the share of interior pixels with a disparity, and the largest depth error in units
 // of the depth step of one disparity pixel, z^2 / (f b).
 struct PlaneCheck {
@@ -86,9 +93,7 @@ std::vector<PlaneCheck> CheckPlanes(const StereoResult& r, const StereoGeometry&
 TEST(Stereo, BlockMatchingRecoversPlaneDepthsWithinQuantisation) {
   const StereoGeometry g = Geometry();
   const auto [left, right] = PlanesPair(g, 3);
-  StereoOptions o;
-  o.decimation = Decimation::kNone;
-  const StereoResult r = StereoProcessor(o).Process(left, right, g);
+  const StereoResult r = StereoProcessor(AllPoints()).Process(left, right, g);
   // Bound: the 1/16 px quantisation plus a stated margin for block matching's parabolic sub-pixel
   // fit ("pixel locking") on a bilinearly resampled texture: 0.05 px on the mean, 0.2 px for 99%
   // of pixels, 0.4 px for every pixel. Measured: mean 0.06-0.08, p99 0.19-0.22, max 0.25-0.41.
@@ -105,7 +110,6 @@ TEST(Stereo, BlockMatchingRecoversPlaneDepthsWithinQuantisation) {
     EXPECT_LT(c.worst_error_px, q + 0.4) << "plane at " << kDepths[band] << " m";
   }
   // The cloud: every point on its plane, x and y from the pinhole model.
-  o.decimation = Decimation::kNone;
   for (size_t i = 0; i < r.cloud.xyz.size(); i += 97) {
     const Eigen::Vector3f& p = r.cloud.xyz[i];
     const double u = g.fx * p.x() / p.z() + g.cx_left, v = g.fy * p.y() / p.z() + g.cy;
@@ -117,10 +121,9 @@ TEST(Stereo, BlockMatchingRecoversPlaneDepthsWithinQuantisation) {
 TEST(Stereo, SemiGlobalRecoversPlaneDepths) {
   const StereoGeometry g = Geometry();
   const auto [left, right] = PlanesPair(g, 5);
-  StereoOptions o;
+  StereoOptions o = AllPoints();
   o.matcher = Matcher::kSemiGlobal;
   o.block_size = 5;
-  o.decimation = Decimation::kNone;
   const StereoResult r = StereoProcessor(o).Process(left, right, g);
   for (const PlaneCheck& c : CheckPlanes(r, g, 8)) {
     std::printf(
@@ -137,8 +140,7 @@ TEST(Stereo, SemiGlobalRecoversPlaneDepths) {
 TEST(Stereo, RangeCutDecimationAndOrganizedCloud) {
   const StereoGeometry g = Geometry();
   const auto [left, right] = PlanesPair(g, 7);
-  StereoOptions all;
-  all.decimation = Decimation::kNone;
+  const StereoOptions all = AllPoints();
   const StereoResult full = StereoProcessor(all).Process(left, right, g);
   ASSERT_GT(full.valid_pixels, 100000);
   EXPECT_EQ(full.cloud.xyz.size(), static_cast<size_t>(full.valid_pixels));
@@ -182,9 +184,7 @@ TEST(Stereo, RangeCutDecimationAndOrganizedCloud) {
 TEST(Stereo, RegionOfInterestMatchesTheFullImageInside) {
   const StereoGeometry g = Geometry();
   const auto [left, right] = PlanesPair(g, 9);
-  StereoOptions o;
-  o.decimation = Decimation::kNone;
-  const StereoProcessor p(o);
+  const StereoProcessor p(AllPoints());
   const StereoResult full = p.Process(left, right, g);
   const cv::Rect roi(200, 150, 180, 200);
   const StereoResult part = p.Process(left, right, g, roi);
@@ -213,8 +213,7 @@ TEST(Stereo, PaddedRowsValidWindowAndEmptyRoi) {
   const cv::Mat padded_left = wide_left(cv::Rect(0, 0, g.width, g.height));
   const cv::Mat padded_right = wide_right(cv::Rect(0, 0, g.width, g.height));
   ASSERT_GT(padded_left.step[0], static_cast<size_t>(g.width));
-  StereoOptions o;
-  o.decimation = Decimation::kNone;
+  StereoOptions o = AllPoints();
   o.intensity = true;
   const StereoResult r = StereoProcessor(o).Process(padded_left, padded_right, g);
   ASSERT_GT(r.cloud.xyz.size(), 1000u);

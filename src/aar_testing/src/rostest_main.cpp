@@ -1,13 +1,4 @@
-// The main of every rostest executable: gtest, a ROS node (rostest gives it its name) and two
-// spinner threads, so that subscribers collect while a test waits.
-#include <gtest/gtest.h>
+// The main of every rostest executable in this package (aar_ros_common::RunRostests).
+#include <aar_ros_common/rostest_main.h>
 
-#include <ros/ros.h>
-
-int main(int argc, char** argv) {
-  testing::InitGoogleTest(&argc, argv);
-  ros::init(argc, argv, "aar_rostest");
-  ros::AsyncSpinner spinner(2);
-  spinner.start();
-  return RUN_ALL_TESTS();
-}
+int main(int argc, char** argv) { return aar_ros_common::RunRostests(argc, argv, "aar_rostest"); }

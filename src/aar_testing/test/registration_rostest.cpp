@@ -4,11 +4,11 @@
 #include <aar_msgs/PoseError.h>
 #include <aar_msgs/PoseEstimate.h>
 #include <ros/ros.h>
-#include <rosgraph_msgs/Log.h>
 #include <sensor_msgs/point_cloud2_iterator.h>
 #include <tf2_eigen/tf2_eigen.h>
 #include <tf2_ros/static_transform_broadcaster.h>
 #include <tf2_ros/transform_listener.h>
+#include "aar_testing/logged_errors.h"
 #include "aar_testing/stamped_collector.h"
 #include "aar_testing/wait.h"
 
@@ -115,31 +115,13 @@ std::vector<Eigen::Vector3f> ReceiverShape() {
 TEST(BadInput, ErrorsNamedNoEstimateNodeAlive) {
   ros::NodeHandle nh;
   ros::Publisher clouds = nh.advertise<sensor_msgs::PointCloud2>("/points", 5);
-  std::mutex mutex;
-  std::vector<std::string> errors;
-  ros::Subscriber rosout =
-      nh.subscribe<rosgraph_msgs::Log>("/rosout", 100, [&](const rosgraph_msgs::Log::ConstPtr& m) {
-        if (m->level >= rosgraph_msgs::Log::ERROR && m->name == "/registration") {
-          std::lock_guard<std::mutex> lock(mutex);
-          errors.push_back(m->msg);
-        }
-      });
+  aar_testing::LoggedErrors errors(nh, "/registration");
   aar_testing::StampedCollector<aar_msgs::PoseEstimate> estimates(nh, "/aar/pose_estimate");
   tf2_ros::StaticTransformBroadcaster static_tf;
   static_tf.sendTransform(SensorMount());
-  aar_testing::WaitFor(
-      [&] { return clouds.getNumSubscribers() > 0 && rosout.getNumPublishers() > 0; }, 30.0);
+  aar_testing::WaitFor([&] { return clouds.getNumSubscribers() > 0 && errors.Connected(); }, 30.0);
   ASSERT_GT(clouds.getNumSubscribers(), 0u);
-  auto logged = [&](const std::string& text) {
-    return aar_testing::WaitFor(
-        [&] {
-          std::lock_guard<std::mutex> lock(mutex);
-          for (const auto& e : errors)
-            if (e.find(text) != std::string::npos) return true;
-          return false;
-        },
-        5.0);
-  };
+  auto logged = [&](const std::string& text) { return errors.Wait(text, 5.0); };
   const float nan = std::numeric_limits<float>::quiet_NaN();
   clouds.publish(Cloud("sensor", {}));
   EXPECT_TRUE(logged("cloud has 0 finite points"));

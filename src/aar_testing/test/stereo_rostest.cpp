@@ -5,13 +5,13 @@
 #include <mutex>
 
 #include <ros/ros.h>
-#include <rosgraph_msgs/Log.h>
 #include <sensor_msgs/CameraInfo.h>
 #include <sensor_msgs/Image.h>
 #include <sensor_msgs/PointCloud2.h>
 #include <sensor_msgs/image_encodings.h>
 #include <sensor_msgs/point_cloud2_iterator.h>
 #include <stereo_msgs/DisparityImage.h>
+#include "aar_testing/logged_errors.h"
 #include "aar_testing/stamped_collector.h"
 #include "aar_testing/wait.h"
 
@@ -138,15 +138,7 @@ struct BadInputFixture {
   ros::Publisher left_info = nh.advertise<sensor_msgs::CameraInfo>("/bad/left/camera_info", 5);
   ros::Publisher right_info = nh.advertise<sensor_msgs::CameraInfo>("/bad/right/camera_info", 5);
   Collector<sensor_msgs::PointCloud2> points{nh, "/bad/points2"};
-  std::mutex log_mutex;
-  std::vector<std::string> errors;
-  ros::Subscriber rosout = nh.subscribe<rosgraph_msgs::Log>(
-      "/rosout", 100, [this](const rosgraph_msgs::Log::ConstPtr& m) {
-        if (m->level >= rosgraph_msgs::Log::ERROR && m->name == "/bad/aar_stereo") {
-          std::lock_guard<std::mutex> lock(log_mutex);
-          errors.push_back(m->msg);
-        }
-      });
+  aar_testing::LoggedErrors errors{nh, "/bad/aar_stereo"};
 
   void Publish(const Pair& p) {
     left.publish(p.left);
@@ -154,17 +146,7 @@ struct BadInputFixture {
     right.publish(p.right);
     right_info.publish(p.right_info);
   }
-  // True once an error containing `text` was logged, within `seconds`.
-  bool ErrorLogged(const std::string& text, double seconds) {
-    return aar_testing::WaitFor(
-        [&] {
-          std::lock_guard<std::mutex> lock(log_mutex);
-          for (const auto& e : errors)
-            if (e.find(text) != std::string::npos) return true;
-          return false;
-        },
-        seconds);
-  }
+  bool ErrorLogged(const std::string& text, double seconds) { return errors.Wait(text, seconds); }
 };
 
 TEST(BadInput, ErrorsAreNamedFramesSkippedNodeAlive) {
@@ -173,7 +155,7 @@ TEST(BadInput, ErrorsAreNamedFramesSkippedNodeAlive) {
   auto connected = [&f] {
     return f.left.getNumSubscribers() > 0 && f.right.getNumSubscribers() > 0 &&
            f.left_info.getNumSubscribers() > 0 && f.right_info.getNumSubscribers() > 0 &&
-           f.rosout.getNumPublishers() > 0;
+           f.errors.Connected();
   };
   aar_testing::WaitFor(connected, 20.0);
   ASSERT_TRUE(connected()) << "aar_stereo never subscribed to all four inputs";

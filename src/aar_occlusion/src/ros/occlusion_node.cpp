@@ -8,8 +8,8 @@
 #include <aar_geometry/mesh_io.h>
 #include <aar_ros_common/param_reader.h>
 #include <aar_ros_common/point_cloud.h>
+#include <aar_ros_common/receiver_params.h>
 #include <aar_ros_common/tf_bridge.h>
-#include <ros/package.h>
 
 #include "aar_occlusion/ros/conversions.h"
 
@@ -27,12 +27,9 @@ OcclusionNodeOptions LoadOcclusionNodeOptions(const ros::NodeHandle& nh) {
   step.boom.cull_behind_boom = params.Get("cull_behind_boom", step.boom.cull_behind_boom);
   step.build_reference = params.Get("publish_reference", step.build_reference);
   o.robot_description = params.Get("robot_description", o.robot_description);
-  o.receiver_mesh = params.Get<std::string>(
-      "receiver_mesh", ros::package::getPath("aar_description") + "/models/receiver.obj");
-  step.sampling.points_per_m2 = params.Get("sample_density", step.sampling.points_per_m2);
-  step.sampling.seed = static_cast<uint64_t>(params.Get("sample_seed", 1));
-  step.reference.visibility_tolerance =
-      params.Get("visibility_tolerance", step.reference.visibility_tolerance);
+  o.receiver_mesh = aar_ros_common::LoadReceiverModel(params, step.sampling);
+  // Sampling does not cast rays here: the tolerance is the dynamic reference's self-occlusion.
+  step.reference.visibility_tolerance = step.sampling.visibility_tolerance;
   step.reference.reshell_distance = params.Get("reshell_distance", step.reference.reshell_distance);
   o.frames = aar_ros_common::LoadStackFrames(params);
   o.tf_timeout = params.Get("tf_timeout", o.tf_timeout);

@@ -9,9 +9,9 @@
 #include <aar_ros_common/markers.h>
 #include <aar_ros_common/param_reader.h>
 #include <aar_ros_common/point_cloud.h>
+#include <aar_ros_common/receiver_params.h>
 #include <aar_ros_common/tf_bridge.h>
 #include <geometry_msgs/PoseWithCovarianceStamped.h>
-#include <ros/package.h>
 #include <tf2_eigen/tf2_eigen.h>
 #include <visualization_msgs/MarkerArray.h>
 
@@ -35,12 +35,7 @@ RegistrationNodeOptions LoadRegistrationNodeOptions(const ros::NodeHandle& nh) {
   else
     throw std::invalid_argument("~reference must be shelled, wings_nose, dense or topic, not '" +
                                 reference + "'");
-  o.receiver_mesh = params.Get<std::string>(
-      "receiver_mesh", ros::package::getPath("aar_description") + "/models/receiver.obj");
-  r.sampling.points_per_m2 = params.Get("sample_density", r.sampling.points_per_m2);
-  r.sampling.seed = static_cast<uint64_t>(params.Get("sample_seed", 1));
-  r.sampling.visibility_tolerance =
-      params.Get("visibility_tolerance", r.sampling.visibility_tolerance);
+  o.receiver_mesh = aar_ros_common::LoadReceiverModel(params, r.sampling);
   // Nominal pose for shelling: the default approach's contact pose.
   const Eigen::Vector3d nominal(params.Get("nominal_x", -35.0), params.Get("nominal_y", 0.0),
                                 params.Get("nominal_z", -10.19));
