@@ -1,0 +1,110 @@
+#pragma once
+
+#include <string>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+namespace aar_registration {
+
+using Matrix6d = Eigen::Matrix<double, 6, 6>;
+using Vector6d = Eigen::Matrix<double, 6, 1>;
+
+// The receiver's motion relative to the tanker as a constant-velocity model over SE(3), filtered
+// by an error-state Kalman filter. Pose errors are [position (tanker frame, m), rotation (tanker
+// frame, rad)] with the rotation error left-multiplied: R_true = Exp(dtheta) * R_estimate.
+struct TrackerOptions {
+  // Process noise: white acceleration, per axis. A receiver closing on a tanker changes its
+  // closure rate by tenths of a m/s per second and its attitude rate by about a degree per
+  // second per second.
+  double acceleration_sigma = 0.5;           // [m/s^2]
+  double angular_acceleration_sigma = 0.02;  // [rad/s^2]
+  // The velocity prior when a track starts from one registration (the receiver's closure rate,
+  // a few m/s, is not known yet).
+  double initial_velocity_sigma = 3.0;          // [m/s]
+  double initial_angular_velocity_sigma = 0.1;  // [rad/s]
+  // Innovation gate: a registration whose squared Mahalanobis distance to the prediction exceeds
+  // this is rejected. 22.46 is the chi-square 99.9% point for 6 degrees of freedom.
+  double gate_chi2 = 22.46;
+  // After this many rejected or missing registrations in a row the track is dropped and the next
+  // registration starts a new one (acquisition).
+  int max_rejections = 5;
+  // A prediction further than this past the last accepted registration is not trusted [s].
+  double max_coast_s = 1.0;
+};
+
+enum class TrackState {
+  kAcquiring,  // no track: the next registration starts one
+  kTracking,   // a track, updated at most max_rejections frames ago
+};
+
+// What one registration did to the track.
+enum class TrackOutcome {
+  kStarted,   // it started a new track (acquisition)
+  kAccepted,  // it passed the gate and updated the track
+  kRejected,  // it failed the gate; the track coasts on the prediction
+  kMissed,    // no registration this frame; the track coasts
+  kLost,      // rejections or coasting ran out, or the filter broke: back to acquisition
+  kReset,     // the stamp went backwards (a bag loop): back to acquisition
+};
+
+const char* ToString(TrackOutcome outcome);
+
+struct TrackPrediction {
+  bool valid = false;  // false while acquiring or past max_coast_s
+  Eigen::Isometry3d T_tanker_receiver = Eigen::Isometry3d::Identity();
+  Matrix6d covariance = Matrix6d::Zero();  // [m^2, rad^2] position then rotation, tanker frame
+};
+
+struct TrackUpdate {
+  TrackOutcome outcome = TrackOutcome::kMissed;
+  double mahalanobis2 = 0.0;  // the innovation's squared Mahalanobis distance (0 if not gated)
+  std::string reason;         // why a registration was rejected or the track lost/reset
+  TrackPrediction filtered;   // the track after this frame (invalid after kLost/kReset)
+};
+
+// Tracks one receiver. Stamps are seconds on any monotonic clock (message stamps). Not
+// thread-safe.
+class Tracker {
+ public:
+  explicit Tracker(const TrackerOptions& options = {});  // throws std::invalid_argument
+
+  TrackState state() const { return state_; }
+  int rejections() const { return rejections_; }
+
+  // The pose predicted at `stamp_s`, with its covariance. The filter is not changed.
+  TrackPrediction Predict(double stamp_s) const;
+
+  // Folds in a registration at `stamp_s`: T_tanker_receiver with its 6x6 covariance (position,
+  // rotation; tanker frame). A non-finite pose or covariance counts as a miss.
+  TrackUpdate Update(double stamp_s, const Eigen::Isometry3d& T_tanker_receiver,
+                     const Matrix6d& covariance);
+  // A frame at `stamp_s` without a registration.
+  TrackUpdate Miss(double stamp_s);
+
+  // Back to acquisition.
+  void Reset();
+
+ private:
+  using Matrix12d = Eigen::Matrix<double, 12, 12>;
+  // Moves the state and covariance to `stamp_s` (no-op for dt <= 0).
+  void Propagate(double stamp_s, Eigen::Vector3d& p, Eigen::Matrix3d& R, Matrix12d& P) const;
+  TrackUpdate Coast(double stamp_s, TrackOutcome outcome, const std::string& reason);
+  TrackUpdate Lose(TrackOutcome outcome, const std::string& reason);
+  TrackPrediction Current() const;
+
+  TrackerOptions options_;
+  TrackState state_ = TrackState::kAcquiring;
+  double stamp_s_ = 0.0;  // of the state below
+  double last_accept_s_ = 0.0;
+  bool has_stamp_ = false;  // any frame seen (for the backwards-stamp check)
+  double last_frame_s_ = 0.0;
+  int rejections_ = 0;
+  Eigen::Vector3d p_ = Eigen::Vector3d::Zero();  // [m] receiver origin, tanker frame
+  Eigen::Matrix3d R_ = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d v_ = Eigen::Vector3d::Zero();  // [m/s] tanker frame
+  Eigen::Vector3d w_ = Eigen::Vector3d::Zero();  // [rad/s] tanker frame
+  Matrix12d P_ = Matrix12d::Zero();              // error state: dp, dtheta, dv, dw
+};
+
+}  // namespace aar_registration
