@@ -30,21 +30,10 @@ constexpr double kRadToDeg = 180.0 / M_PI;
 }  // namespace
 
 const char* ToString(TrackOutcome outcome) {
-  switch (outcome) {
-    case TrackOutcome::kStarted:
-      return "started";
-    case TrackOutcome::kAccepted:
-      return "accepted";
-    case TrackOutcome::kRejected:
-      return "rejected";
-    case TrackOutcome::kMissed:
-      return "missed";
-    case TrackOutcome::kLost:
-      return "lost";
-    case TrackOutcome::kReset:
-      return "reset";
-  }
-  return "?";
+  static const char* const kNames[] = {"started", "accepted", "rejected",
+                                       "missed",  "lost",     "reset"};  // in the enum's order
+  const auto i = static_cast<size_t>(outcome);
+  return i < sizeof(kNames) / sizeof(kNames[0]) ? kNames[i] : "?";
 }
 
 Tracker::Tracker(const TrackerOptions& options) : options_(options) {

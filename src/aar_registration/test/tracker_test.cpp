@@ -188,6 +188,11 @@ TEST(Tracker, StampGoingBackAndNonFiniteRegistrationsAreHandled) {
   EXPECT_EQ(tracker.state(), TrackState::kAcquiring);
 }
 
+TEST(Tracker, OutcomesHaveNames) {
+  EXPECT_STREQ(ToString(TrackOutcome::kStarted), "started");
+  EXPECT_STREQ(ToString(TrackOutcome::kReset), "reset");
+}
+
 TEST(Tracker, RefusesOptionsThatCannotWork) {
   TrackerOptions o;
   o.gate_chi2 = 0.0;
