@@ -5,6 +5,7 @@
 #include <limits>
 #include <sstream>
 
+#include <Eigen/Cholesky>
 #include <aar_geometry/pose.h>
 #include <aar_geometry/pose_error.h>
 
@@ -20,6 +21,18 @@ double ToSec(int64_t stamp_ns) {
 // |x, y, z| of a frame's position error [m].
 double PositionError(const FrameRecord& f) {
   return std::sqrt(f.error[0] * f.error[0] + f.error[1] * f.error[1] + f.error[2] * f.error[2]);
+}
+
+// The estimate's error against its covariance (NaN when it has none or it is singular).
+double Nees(const Eigen::Isometry3d& truth, const Estimate& e) {
+  const Eigen::AngleAxisd aa(truth.linear() * e.T_tanker_receiver.linear().transpose());
+  Eigen::Matrix<double, 6, 1> d;
+  d << truth.translation() - e.T_tanker_receiver.translation(), aa.angle() * aa.axis();
+  const Eigen::LDLT<Eigen::Matrix<double, 6, 6>> ldlt(e.covariance);
+  if (e.covariance.isZero() || ldlt.info() != Eigen::Success || !ldlt.isPositive() ||
+      !(ldlt.vectorD().minCoeff() > 0.0))
+    return std::numeric_limits<double>::quiet_NaN();
+  return d.dot(ldlt.solve(d));
 }
 
 }  // namespace
@@ -83,9 +96,11 @@ std::vector<SettledFrame> Evaluator::Settle(int64_t before_ns, const TruthLookup
         f.iterations = est.iterations;
         f.rms = est.rms;
         f.registration_ms = est.registration_ms;
+        f.nees = Nees(*T_truth, est);
         position_sum_ += PositionError(f);
         ++estimated_;
       }
+      f.track = est.track;
       estimates_.erase(it);
     }
     records_.push_back(f);

@@ -56,10 +56,14 @@ double AverageImprovement(const RegionStats& value, const RegionStats& baseline)
   return sum / 6.0;
 }
 
-std::string FrameCsvHeader() {
-  return "t,range_m,region,estimated,x_m,y_m,z_m,roll_deg,pitch_deg,yaw_deg,converged,iterations,"
-         "rms_m,registration_ms";
-}
+namespace {
+// Before tracking (issue 12) frame CSVs ended at registration_ms; they still load.
+const char* const kHeaderBeforeTracking =
+    "t,range_m,region,estimated,x_m,y_m,z_m,roll_deg,pitch_deg,yaw_deg,converged,iterations,"
+    "rms_m,registration_ms";
+}  // namespace
+
+std::string FrameCsvHeader() { return std::string(kHeaderBeforeTracking) + ",track,nees"; }
 
 std::string FrameCsvRow(const FrameRecord& f) {
   std::ostringstream s;
@@ -67,7 +71,8 @@ std::string FrameCsvRow(const FrameRecord& f) {
     << ',' << (f.estimated ? 1 : 0);
   for (double e : f.error) s << ',' << (f.estimated ? e : std::numeric_limits<double>::quiet_NaN());
   s << ',' << (f.converged ? 1 : 0) << ',' << f.iterations << ',' << f.rms << ','
-    << f.registration_ms;
+    << f.registration_ms << ',' << f.track << ','
+    << (f.estimated ? f.nees : std::numeric_limits<double>::quiet_NaN());
   return s.str();
 }
 
@@ -84,8 +89,10 @@ std::vector<FrameRecord> ReadFrameCsv(const std::string& path) {
   std::ifstream in(path);
   std::string line;
   std::getline(in, line);
-  if (line != FrameCsvHeader())
+  const bool before_tracking = line == kHeaderBeforeTracking;
+  if (line != FrameCsvHeader() && !before_tracking)
     throw aar_geometry::LoadError(path, "line 1: not a frame CSV header");
+  const size_t columns = before_tracking ? 14 : 16;
   std::vector<FrameRecord> frames;
   int number = 1;
   while (std::getline(in, line)) {
@@ -95,9 +102,10 @@ std::vector<FrameRecord> ReadFrameCsv(const std::string& path) {
     std::stringstream ss(line);
     for (std::string cell; std::getline(ss, cell, ',');) cells.push_back(cell);
     const std::string where = "line " + std::to_string(number) + ": ";
-    if (cells.size() != 14)
-      throw aar_geometry::LoadError(path,
-                                    where + std::to_string(cells.size()) + " cells, 14 expected");
+    if (line.back() == ',') cells.push_back("");  // getline drops a trailing empty cell
+    if (cells.size() != columns)
+      throw aar_geometry::LoadError(path, where + std::to_string(cells.size()) + " cells, " +
+                                              std::to_string(columns) + " expected");
     auto number_at = [&](int i) {
       try {
         size_t used = 0;
@@ -122,6 +130,10 @@ std::vector<FrameRecord> ReadFrameCsv(const std::string& path) {
     f.iterations = static_cast<int>(number_at(11));
     f.rms = number_at(12);
     f.registration_ms = number_at(13);
+    if (!before_tracking) {
+      f.track = cells[14];
+      f.nees = cells[15] == "nan" ? std::numeric_limits<double>::quiet_NaN() : number_at(15);
+    }
     frames.push_back(f);
   }
   return frames;

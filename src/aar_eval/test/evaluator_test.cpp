@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 namespace aar_eval {
 namespace {
 
@@ -25,6 +27,25 @@ Estimate At(double x, bool valid = true) {
   e.converged = true;
   e.iterations = 7;
   return e;
+}
+
+// The NEES of an estimate 0.1 m off in x with a 0.05 m position sigma is (0.1 / 0.05)^2 = 4;
+// without a covariance it is NaN; the tracker's outcome is copied.
+TEST(Evaluator, NeesOfTheEstimateAgainstItsCovariance) {
+  Evaluator eval(1.0, 3);
+  Estimate e = At(-34.4);
+  e.covariance.diagonal() << 0.0025, 0.0025, 0.0025, 1e-4, 1e-4, 1e-4;
+  e.track = "accepted";
+  eval.AddFrame(2 * kSecond);
+  eval.AddEstimate(2 * kSecond, e);
+  eval.AddFrame(3 * kSecond);
+  eval.AddEstimate(3 * kSecond, At(-34.4));
+  const auto settled = eval.SettleAll(Truth);
+  ASSERT_EQ(settled.size(), 2u);
+  EXPECT_NEAR(settled[0].record.nees, 4.0, 1e-9);
+  EXPECT_EQ(settled[0].record.track, "accepted");
+  EXPECT_TRUE(std::isnan(settled[1].record.nees));
+  EXPECT_EQ(settled[1].record.track, "off");
 }
 
 TEST(Evaluator, SettlesAllButTheNewestTwoFramesAndRecordsMisses) {

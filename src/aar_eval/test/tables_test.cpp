@@ -80,6 +80,15 @@ TEST(Tables, CsvRoundTripAndErrors) {
   ASSERT_EQ(again.size(), frames.size());
   EXPECT_EQ(again[1].error[0], -3.0);
   EXPECT_FALSE(again[2].estimated);
+  EXPECT_EQ(again[0].track, "off");  // the old format (kCsv) reads as untracked, no NEES
+  EXPECT_TRUE(std::isnan(again[0].nees));
+  // The tracking columns round-trip.
+  FrameRecord tracked = frames[0];
+  tracked.track = "rejected";
+  tracked.nees = 7.25;
+  WriteFrameCsv(path, {tracked});
+  EXPECT_EQ(ReadFrameCsv(path)[0].track, "rejected");
+  EXPECT_EQ(ReadFrameCsv(path)[0].nees, 7.25);
   // A range a hair below a region boundary keeps its region through the CSV.
   FrameRecord edge;
   edge.range_m = 38.0 - 1e-12;
@@ -98,9 +107,11 @@ TEST(Tables, CsvRoundTripAndErrors) {
   };
   const std::string header = FrameCsvHeader() + "\n";
   expect("t,x\n", "line 1: not a frame CSV header");
-  expect(header + "0,150,A,1\n", "line 2: 4 cells, 14 expected");
-  expect(header + "0,150,A,1,abc,0,0,0,0,0,1,1,0,0\n", "line 2: 'abc' is not a number");
-  expect(header + "0,50,A,1,0,0,0,0,0,0,1,1,0,0\n", "line 2: region 'A' does not match range 50");
+  expect(header + "0,150,A,1\n", "line 2: 4 cells, 16 expected");
+  expect(header + "0,150,A,1,abc,0,0,0,0,0,1,1,0,0,off,1\n", "line 2: 'abc' is not a number");
+  expect(header + "0,50,A,1,0,0,0,0,0,0,1,1,0,0,off,1\n",
+         "line 2: region 'A' does not match range 50");
+  expect(header + "0,150,A,1,0,0,0,0,0,0,1,1,0,0,off,x\n", "line 2: 'x' is not a number");
 }
 
 }  // namespace

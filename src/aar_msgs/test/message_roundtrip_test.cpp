@@ -39,6 +39,12 @@ TEST(AarMsgs, PoseEstimateRoundTrip) {
   sent.occlusion_ms = 1.25;
   sent.registration_ms = 8.0;
   sent.total_ms = 31.0;
+  sent.covariance[0] = 1e-4;
+  sent.covariance[35] = 3e-6;
+  sent.velocity.linear.x = 0.5;
+  sent.seed = aar_msgs::PoseEstimate::SEED_PREDICTION;
+  sent.track = aar_msgs::PoseEstimate::TRACK_REJECTED;
+  sent.track_reason = "RMS 0.3 m > 0.25 m";
   const auto got = RoundTrip("/aar/pose_estimate_test", sent);
   ASSERT_TRUE(got) << "no message came back within 10 s";
   EXPECT_EQ(got->header.frame_id, "tanker");
@@ -48,6 +54,12 @@ TEST(AarMsgs, PoseEstimateRoundTrip) {
   EXPECT_TRUE(got->converged);
   EXPECT_EQ(got->iterations, 17u);
   EXPECT_EQ(got->reference_points, 21000u);
+  EXPECT_EQ(got->covariance[0], 1e-4);
+  EXPECT_EQ(got->covariance[35], 3e-6);
+  EXPECT_EQ(got->velocity.linear.x, 0.5);
+  EXPECT_EQ(got->seed, aar_msgs::PoseEstimate::SEED_PREDICTION);
+  EXPECT_EQ(got->track, aar_msgs::PoseEstimate::TRACK_REJECTED);
+  EXPECT_EQ(got->track_reason, "RMS 0.3 m > 0.25 m");
   EXPECT_EQ(got->total_ms, 31.0);
 }
 

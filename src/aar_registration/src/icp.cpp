@@ -58,6 +58,10 @@ Icp::Icp(const IcpOptions& options) : options_(options) {
   }
   if (options.min_correspondences < 3)
     throw std::invalid_argument("min_correspondences must be at least 3");
+  if (options.independent_correspondences < 1)
+    throw std::invalid_argument("independent_correspondences must be at least 1");
+  if (!(options.min_residual_sigma >= 0.0))
+    throw std::invalid_argument("min_residual_sigma must be >= 0");
 }
 
 Icp::~Icp() = default;
@@ -123,6 +127,45 @@ RegistrationResult Icp::Align(const std::vector<Eigen::Vector3d>& source,
     result.rms = pairs.empty() ? 0.0 : std::sqrt(sum_d2 / pairs.size());
   };
 
+  // The covariance of the pose of the current pairs (see RegistrationResult::covariance).
+  auto estimate_covariance = [&]() {
+    result.covariance.setZero();
+    result.degenerate = false;
+    const auto& tp = target_->set.pts;
+    const bool planes = options_.metric == IcpMetric::kPointToPlane;
+    const int rows_per_pair = planes ? 1 : 3;
+    const int dof = static_cast<int>(pairs.size()) * rows_per_pair - 6;
+    if (pairs.size() < static_cast<size_t>(options_.min_correspondences) || dof <= 0) return;
+    Matrix6d H = Matrix6d::Zero();
+    double sum_r2 = 0.0;
+    for (const auto& [p, i] : pairs) {
+      if (planes) {  // r = n . (p - q), dr/d(w, t) = [p x n, n]
+        const Eigen::Vector3d& n = target_->normals[i];
+        Vector6d J;
+        J << p.cross(n), n;
+        H += J * J.transpose();
+        const double r = n.dot(p - tp[i]);
+        sum_r2 += r * r;
+      } else {  // r = p - q, dr/d(w, t) = [-[p]x, I]
+        Eigen::Matrix<double, 3, 6> J;
+        J << 0.0, p.z(), -p.y(), 1.0, 0.0, 0.0,  //
+            -p.z(), 0.0, p.x(), 0.0, 1.0, 0.0,   //
+            p.y(), -p.x(), 0.0, 0.0, 0.0, 1.0;
+        H += J.transpose() * J;
+        sum_r2 += (p - tp[i]).squaredNorm();
+      }
+    }
+    const Eigen::SelfAdjointEigenSolver<Matrix6d> eigen(H);
+    result.degenerate = !(eigen.eigenvalues()(0) > 1e-9 * eigen.eigenvalues()(5));
+    if (result.degenerate) return;
+    const double correlation = std::max(
+        1.0, static_cast<double>(pairs.size()) / options_.independent_correspondences);
+    const double sigma2 =
+        std::max(sum_r2 / dof, options_.min_residual_sigma * options_.min_residual_sigma);
+    result.covariance = correlation * sigma2 * eigen.operatorInverseSqrt() *
+                        eigen.operatorInverseSqrt();
+  };
+
   if (options_.metric == IcpMetric::kGeneralizedPcl) {
     Gicp& gicp = *target_->gicp;
     const auto cloud = ToPcl(source);
@@ -138,6 +181,7 @@ RegistrationResult Icp::Align(const std::vector<Eigen::Vector3d>& source,
     result.T_target_source.translation() = M.topRightCorner<3, 1>();
     result.iterations = gicp.iterations();
     match();  // RMS and fitness by the same definition as the other metrics
+    estimate_covariance();
     result.converged = gicp.hasConverged() && result.iterations < options_.max_iterations &&
                        result.correspondences >= options_.min_correspondences;
     return result;
@@ -156,6 +200,7 @@ RegistrationResult Icp::Align(const std::vector<Eigen::Vector3d>& source,
     if (result.rms < options_.rms_epsilon ||
         (improvement >= 0.0 && improvement < options_.min_rms_improvement)) {
       result.converged = true;
+      estimate_covariance();
       return result;
     }
     previous_rms = result.rms;
@@ -204,7 +249,8 @@ RegistrationResult Icp::Align(const std::vector<Eigen::Vector3d>& source,
     }
     result.T_target_source = step * result.T_target_source;
   }
-  match();                   // statistics of the transform returned
+  match();  // statistics of the transform returned
+  estimate_covariance();
   result.converged = false;  // out of iterations while still improving
   return result;
 }

@@ -1,11 +1,30 @@
 #include "aar_registration/registrar.h"
 
+#include <algorithm>
 #include <chrono>
+#include <iterator>
+#include <random>
+#include <sstream>
 #include <stdexcept>
 
 namespace aar_registration {
 
-Registrar::Registrar(const RegistrarOptions& options) : options_(options), icp_(options.icp) {}
+const char* ToString(SeedMode seed) {
+  static const char* const kNames[] = {"centroid", "previous", "prediction"};  // enum order
+  const auto i = static_cast<size_t>(seed);
+  return i < sizeof(kNames) / sizeof(kNames[0]) ? kNames[i] : "?";
+}
+
+Registrar::Registrar(const RegistrarOptions& options)
+    : options_(options), icp_(options.icp), tracker_(options.tracker) {
+  if (options.seed == SeedMode::kPrediction && !options.track)
+    throw std::invalid_argument("the prediction seed needs tracking (track: true)");
+  if (options.max_sensed_points != 0 && options.max_sensed_points < options.icp.min_correspondences)
+    throw std::invalid_argument("max_sensed_points must be 0 (all) or at least min_correspondences");
+  if (!(options.gate.min_fitness >= 0.0 && options.gate.min_fitness <= 1.0) ||
+      !(options.gate.max_rms > 0.0))
+    throw std::invalid_argument("gate: min_fitness must be in [0, 1] and max_rms > 0");
+}
 
 size_t Registrar::BuildStaticReference(const aar_geometry::TriangleMesh& receiver,
                                        const std::vector<Eigen::Vector3d>& eyes_in_tanker) {
@@ -40,41 +59,106 @@ void Registrar::SetReference(std::vector<Eigen::Vector3d> points,
   reference_points_ = std::move(points);
 }
 
-RegistrarResult Registrar::Register(const std::vector<Eigen::Vector3d>& sensed, double stamp_s) {
+TrackPrediction Registrar::Predict(double stamp_s) const {
+  return options_.track ? tracker_.Predict(stamp_s) : TrackPrediction{};
+}
+
+void Registrar::Align(const std::vector<Eigen::Vector3d>& sensed, const Eigen::Isometry3d& seed,
+                      RegistrarResult& out) const {
+  out.icp = icp_.Align(sensed, seed.inverse());
+  if (out.icp.correspondences < options_.icp.min_correspondences) {
+    throw std::runtime_error("only " + std::to_string(out.icp.correspondences) + " of " +
+                             std::to_string(sensed.size()) + " points within " +
+                             std::to_string(options_.icp.max_correspondence_distance) +
+                             " m of the reference: no pose");
+  }
+  out.T_tanker_receiver_registered = out.icp.T_target_source.inverse();
+  if (!out.T_tanker_receiver_registered.matrix().allFinite())
+    throw std::runtime_error("registration gave a non-finite pose");
+  out.registered = true;
+}
+
+// Inverting turns Exp(xi) T_receiver_tanker into T_tanker_receiver Exp(-xi): to first order
+// dp = -R t and dtheta = -R w with xi = (w, t) and R = R_tanker_receiver.
+Matrix6d CovarianceInTanker(const Matrix6d& icp_covariance,
+                            const Eigen::Isometry3d& T_tanker_receiver) {
+  const Eigen::Matrix3d R = T_tanker_receiver.linear();
+  Matrix6d J = Matrix6d::Zero();
+  J.block<3, 3>(0, 3) = -R;
+  J.block<3, 3>(3, 0) = -R;
+  return J * icp_covariance * J.transpose();
+}
+
+RegistrarResult Registrar::Register(const std::vector<Eigen::Vector3d>& all_sensed,
+                                    double stamp_s) {
+  const auto start = std::chrono::steady_clock::now();
   RegistrarResult out;
-  out.sensed_points = sensed.size();
+  out.tracking = options_.track;
   out.reference_points = reference_points_.size();
+  const std::vector<Eigen::Vector3d>* sensed = &all_sensed;
+  std::vector<Eigen::Vector3d> subset;
+  if (options_.max_sensed_points > 0 &&
+      all_sensed.size() > static_cast<size_t>(options_.max_sensed_points)) {
+    subset.reserve(options_.max_sensed_points);
+    std::sample(all_sensed.begin(), all_sensed.end(), std::back_inserter(subset),
+                options_.max_sensed_points, std::mt19937(options_.subsample_seed));
+    sensed = &subset;
+  }
+  out.sensed_points = sensed->size();
   try {
     if (!icp_.has_target()) throw std::runtime_error("no reference model yet");
-    if (sensed.size() < static_cast<size_t>(options_.icp.min_correspondences)) {
-      throw std::invalid_argument("cloud has " + std::to_string(sensed.size()) +
+    if (sensed->size() < static_cast<size_t>(options_.icp.min_correspondences)) {
+      throw std::invalid_argument("cloud has " + std::to_string(sensed->size()) +
                                   " finite points, too few to register");
     }
+    const TrackPrediction prediction = Predict(stamp_s);
     Eigen::Isometry3d seed =
-        aar_geometry::CentroidSeed(sensed, reference_points_);  // T_tanker_receiver
+        aar_geometry::CentroidSeed(*sensed, reference_points_);  // T_tanker_receiver
+    out.seed = SeedMode::kCentroid;
     if (options_.seed == SeedMode::kPrevious && previous_ &&
         stamp_s - previous_->first <= options_.previous_max_age && stamp_s >= previous_->first) {
       seed = previous_->second;
+      out.seed = SeedMode::kPrevious;
+    } else if (options_.seed == SeedMode::kPrediction && prediction.valid) {
+      seed = prediction.T_tanker_receiver;
+      out.seed = SeedMode::kPrediction;
     }
-    const auto start = std::chrono::steady_clock::now();
-    out.icp = icp_.Align(sensed, seed.inverse());
-    out.registration_ms =
-        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-    if (out.icp.correspondences < options_.icp.min_correspondences) {
-      throw std::runtime_error("only " + std::to_string(out.icp.correspondences) + " of " +
-                               std::to_string(sensed.size()) + " points within " +
-                               std::to_string(options_.icp.max_correspondence_distance) +
-                               " m of the reference: no pose");
-    }
-    out.T_tanker_receiver = out.icp.T_target_source.inverse();
-    if (!out.T_tanker_receiver.matrix().allFinite())
-      throw std::runtime_error("registration gave a non-finite pose");
-    if (out.icp.converged) previous_ = std::make_pair(stamp_s, out.T_tanker_receiver);
-    out.valid = true;
+    Align(*sensed, seed, out);
+    if (out.icp.converged) previous_ = std::make_pair(stamp_s, out.T_tanker_receiver_registered);
   } catch (const std::exception& e) {
-    out.valid = false;
     out.error = e.what();
   }
+
+  if (!options_.track) {
+    out.valid = out.registered;
+    out.T_tanker_receiver = out.T_tanker_receiver_registered;
+    out.covariance = CovarianceInTanker(out.icp.covariance, out.T_tanker_receiver);
+  } else {
+    std::ostringstream gate;
+    if (out.registered && out.icp.fitness < options_.gate.min_fitness)
+      gate << "fitness " << out.icp.fitness << " < " << options_.gate.min_fitness;
+    else if (out.registered && out.icp.rms > options_.gate.max_rms)
+      gate << "RMS " << out.icp.rms << " m > " << options_.gate.max_rms << " m";
+    else if (out.registered && out.icp.degenerate)
+      gate << "the reference leaves a motion unconstrained";
+    if (!out.registered)
+      out.track = tracker_.Reject(stamp_s, out.error);
+    else if (!gate.str().empty())
+      out.track = tracker_.Reject(stamp_s, "registration rejected: " + gate.str());
+    else
+      out.track = tracker_.Update(
+          stamp_s, out.T_tanker_receiver_registered,
+          CovarianceInTanker(out.icp.covariance, out.T_tanker_receiver_registered));
+    const TrackPrediction& filtered = out.track.filtered;
+    out.valid = filtered.valid;
+    out.T_tanker_receiver = filtered.T_tanker_receiver;
+    out.covariance = filtered.covariance;
+    out.velocity = filtered.velocity;
+    out.angular_velocity = filtered.angular_velocity;
+    if (!out.valid && out.error.empty()) out.error = out.track.reason;
+  }
+  out.registration_ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   return out;
 }
 

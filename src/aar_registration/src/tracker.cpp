@@ -78,27 +78,29 @@ void Tracker::Propagate(double stamp_s, Eigen::Vector3d& p, Eigen::Matrix3d& R,
   P = F * P * F.transpose() + Q;
 }
 
-TrackPrediction Tracker::Current() const {
+TrackPrediction Tracker::State(const Eigen::Vector3d& p, const Eigen::Matrix3d& R,
+                               const Matrix12d& P) const {
   TrackPrediction out;
   out.valid = state_ == TrackState::kTracking;
-  out.T_tanker_receiver.linear() = R_;
-  out.T_tanker_receiver.translation() = p_;
-  out.covariance = P_.topLeftCorner<6, 6>();
+  out.T_tanker_receiver.linear() = R;
+  out.T_tanker_receiver.translation() = p;
+  out.covariance = P.topLeftCorner<6, 6>();
+  out.velocity = v_;
+  out.angular_velocity = w_;
   return out;
 }
 
 TrackPrediction Tracker::Predict(double stamp_s) const {
-  if (state_ != TrackState::kTracking || stamp_s - last_accept_s_ > options_.max_coast_s) return {};
+  // Nothing to predict while acquiring, past the coast limit or before the last frame (the
+  // stamp went back: the next Update starts a new track).
+  if (state_ != TrackState::kTracking || stamp_s - last_accept_s_ > options_.max_coast_s ||
+      (has_stamp_ && stamp_s < last_frame_s_))
+    return {};
   Eigen::Vector3d p = p_;
   Eigen::Matrix3d R = R_;
   Matrix12d P = P_;
   Propagate(stamp_s, p, R, P);
-  TrackPrediction out;
-  out.valid = true;
-  out.T_tanker_receiver.linear() = R;
-  out.T_tanker_receiver.translation() = p;
-  out.covariance = P.topLeftCorner<6, 6>();
-  return out;
+  return State(p, R, P);
 }
 
 TrackUpdate Tracker::Lose(TrackOutcome outcome, const std::string& reason) {
@@ -129,27 +131,42 @@ TrackUpdate Tracker::Coast(double stamp_s, TrackOutcome outcome, const std::stri
   return u;
 }
 
-TrackUpdate Tracker::Miss(double stamp_s) {
+bool Tracker::CheckStamp(double stamp_s, TrackUpdate* update) {
   if (has_stamp_ && stamp_s < last_frame_s_) {
     std::ostringstream s;
     s << "stamp went back by " << last_frame_s_ - stamp_s << " s";
     last_frame_s_ = stamp_s;
-    return Lose(TrackOutcome::kReset, s.str());
+    *update = Lose(TrackOutcome::kReset, s.str());
+    return true;
   }
   has_stamp_ = true;
   last_frame_s_ = stamp_s;
-  if (state_ != TrackState::kTracking) return {};
-  return Coast(stamp_s, TrackOutcome::kMissed, "no registration");
+  return false;
+}
+
+TrackUpdate Tracker::NoRegistration(double stamp_s, TrackOutcome outcome,
+                                    const std::string& reason) {
+  TrackUpdate u;
+  u.reason = reason;
+  if (!std::isfinite(stamp_s)) return u;
+  if (CheckStamp(stamp_s, &u)) return u;
+  if (state_ != TrackState::kTracking) return u;
+  return Coast(stamp_s, outcome, reason);
+}
+
+TrackUpdate Tracker::Miss(double stamp_s) {
+  return NoRegistration(stamp_s, TrackOutcome::kMissed, "no registration");
+}
+
+TrackUpdate Tracker::Reject(double stamp_s, const std::string& reason) {
+  return NoRegistration(stamp_s, TrackOutcome::kRejected, reason);
 }
 
 TrackUpdate Tracker::Update(double stamp_s, const Eigen::Isometry3d& T_tanker_receiver,
                             const Matrix6d& covariance) {
   if (!T_tanker_receiver.matrix().allFinite() || !covariance.allFinite() ||
-      !std::isfinite(stamp_s)) {
-    TrackUpdate u = std::isfinite(stamp_s) ? Miss(stamp_s) : TrackUpdate{};
-    u.reason = "registration not finite" + (u.reason.empty() ? "" : "; " + u.reason);
-    return u;
-  }
+      !std::isfinite(stamp_s))
+    return Reject(stamp_s, "registration not finite");
   std::string restart;
   if (has_stamp_ && stamp_s < last_frame_s_) {
     std::ostringstream s;

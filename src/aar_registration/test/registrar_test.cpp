@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <random>
+
 #include <aar_geometry/mesh_io.h>
 #include <aar_geometry/pose.h>
 #include <ros/package.h>
@@ -101,6 +103,162 @@ TEST(Registrar, PreviousEstimateSeedsTheNextFrameWhileRecent) {
   // Older than previous_max_age, or from before the previous frame: the centroid seed again.
   EXPECT_EQ(registrar.Register(f.sensed, 5.0).icp.iterations, first.icp.iterations);
   EXPECT_EQ(registrar.Register(f.sensed, 4.5).icp.iterations, first.icp.iterations);
+}
+
+// Every 8th dense sample of the receiver at T_tanker_receiver, with Gaussian noise per axis.
+std::vector<Eigen::Vector3d> Sensed(const Eigen::Isometry3d& T_tanker_receiver, double sigma,
+                                    unsigned seed) {
+  static const auto dense =
+      aar_geometry::SampleReceiver(Receiver(), aar_geometry::ReferenceModelOptions{});
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> noise(0.0, sigma);
+  std::vector<Eigen::Vector3d> sensed;
+  for (size_t i = 0; i < dense.size(); i += 8) {
+    sensed.push_back(T_tanker_receiver * dense.points[i] +
+                     Eigen::Vector3d(noise(rng), noise(rng), noise(rng)));
+  }
+  return sensed;
+}
+
+// [position (m), rotation (rad)] of `estimate` against `truth`, in the convention of
+// RegistrarResult::covariance: R_truth = Exp(dtheta) R_estimate.
+Vector6d PoseDifference(const Eigen::Isometry3d& truth, const Eigen::Isometry3d& estimate) {
+  const Eigen::AngleAxisd aa(truth.linear() * estimate.linear().transpose());
+  Vector6d d;
+  d << truth.translation() - estimate.translation(), aa.angle() * aa.axis();
+  return d;
+}
+
+// The ICP covariance, carried into the tanker frame, predicts the spread of the registered pose
+// over independent noise draws, axis by axis, for both metrics (independent points: no
+// correlation scaling). The receiver is yawed 60 deg so that a frame error would swap axes; ICP
+// starts near the truth, as it does from a prediction.
+TEST(Registrar, CovarianceMatchesTheSpreadOfRegistrations) {
+  const auto dense =
+      aar_geometry::SampleReceiver(Receiver(), aar_geometry::ReferenceModelOptions{});
+  const Eigen::Isometry3d truth =
+      aar_geometry::MakeTransform({-35.0, 0.3, -10.19}, {0.05, -0.035, M_PI / 3});
+  const Eigen::Isometry3d guess =
+      aar_geometry::MakeTransform({-35.1, 0.35, -10.15}, {0.06, -0.03, M_PI / 3 + 0.01});
+  for (const IcpMetric metric : {IcpMetric::kPointToPoint, IcpMetric::kPointToPlane}) {
+    IcpOptions options;
+    options.metric = metric;
+    options.independent_correspondences = 1000000;
+    options.max_iterations = 60;
+    Icp icp(options);
+    icp.SetTarget(dense.points, dense.normals);
+    constexpr int kTrials = 40;
+    Matrix6d spread = Matrix6d::Zero(), predicted = Matrix6d::Zero();
+    for (int trial = 0; trial < kTrials; ++trial) {
+      const RegistrationResult r = icp.Align(Sensed(truth, 0.01, 100 + trial), guess.inverse());
+      ASSERT_TRUE(r.converged);
+      const Eigen::Isometry3d estimate = r.T_target_source.inverse();
+      const Vector6d d = PoseDifference(truth, estimate);
+      spread += d * d.transpose() / kTrials;
+      predicted += CovarianceInTanker(r.covariance, estimate) / kTrials;
+    }
+    for (int i = 0; i < 6; ++i) {
+      const double ratio = std::sqrt(spread(i, i) / predicted(i, i));
+      std::printf("[ covariance ] %s axis %d: measured sigma %.3g, predicted %.3g, ratio %.2f\n",
+                  metric == IcpMetric::kPointToPoint ? "point-to-point" : "point-to-plane", i,
+                  std::sqrt(spread(i, i)), std::sqrt(predicted(i, i)), ratio);
+      EXPECT_GT(ratio, 0.7) << "axis " << i;  // measured 0.81 to 1.61
+      EXPECT_LT(ratio, 1.8) << "axis " << i;
+    }
+  }
+}
+
+// A receiver flying a constant-velocity approach at 10 Hz, tracked: the prediction seeds ICP;
+// frames with no receiver in view coast on it; a jump of the receiver is rejected until
+// max_rejections frames in a row lose the track, and the next frame acquires it again at the
+// new place from the centroid seed. Nothing published is NaN.
+TEST(Registrar, TrackingCoastsThroughMissesAndReacquiresAfterAJump) {
+  RegistrarOptions options;
+  options.reference = ReferenceKind::kDense;
+  options.icp.metric = IcpMetric::kPointToPlane;
+  options.track = true;
+  options.seed = SeedMode::kPrediction;
+  options.tracker.max_rejections = 4;
+  Registrar registrar(options);
+  registrar.BuildStaticReference(Receiver(), {});
+  const std::vector<Eigen::Vector3d> nothing = {{2000, 0, 0}, {2000, 30, 0}, {2000, 0, 30},
+                                                {2000, 1, 1}, {2000, 2, 1},  {2000, 3, 1},
+                                                {2000, 4, 1}, {2000, 5, 1},  {2000, 6, 1},
+                                                {2000, 7, 1}, {2000, 8, 1},  {2000, 9, 1}};
+  Eigen::Vector3d jump = Eigen::Vector3d::Zero();
+  auto truth = [&](int k) {
+    return aar_geometry::MakeTransform(Eigen::Vector3d(-60.0 + 0.5 * k * 0.1, 0.2, -12.0) + jump,
+                                       {0.01, -0.035, 0.017});
+  };
+  std::vector<TrackOutcome> outcomes;
+  std::vector<SeedMode> seeds;
+  for (int k = 0; k < 40; ++k) {
+    if (k == 25) jump = Eigen::Vector3d(0.0, 1.5, 0.0);
+    const bool blind = k >= 12 && k < 15;
+    const RegistrarResult r = registrar.Register(blind ? nothing : Sensed(truth(k), 0.005, k), k * 0.1);
+    outcomes.push_back(r.track.outcome);
+    seeds.push_back(r.seed);
+    SCOPED_TRACE("frame " + std::to_string(k) + ": " + ToString(r.track.outcome) + " " +
+                 r.track.reason + " " + r.error);
+    EXPECT_TRUE(r.T_tanker_receiver.matrix().allFinite());
+    EXPECT_TRUE(r.covariance.allFinite());
+    if (r.valid && !blind && (k < 25 || k > 29)) {
+      EXPECT_LT((r.T_tanker_receiver.translation() - truth(k).translation()).norm(), 0.02);
+    }
+    if (blind) {
+      EXPECT_EQ(r.track.outcome, TrackOutcome::kRejected);
+      EXPECT_TRUE(r.valid);  // coasting: the prediction
+      EXPECT_NE(r.track.reason.find("no pose"), std::string::npos);
+      EXPECT_LT((r.T_tanker_receiver.translation() - truth(k).translation()).norm(), 0.05);
+    }
+  }
+  EXPECT_EQ(outcomes[0], TrackOutcome::kStarted);
+  EXPECT_EQ(seeds[0], SeedMode::kCentroid);
+  for (int k = 1; k < 12; ++k) EXPECT_EQ(outcomes[k], TrackOutcome::kAccepted) << k;
+  for (int k = 1; k < 25; ++k) EXPECT_EQ(seeds[k], SeedMode::kPrediction) << k;
+  for (int k = 15; k < 25; ++k) EXPECT_EQ(outcomes[k], TrackOutcome::kAccepted) << k;
+  // The jump: 1.5 m off the prediction, rejected (by a gate, or by ICP finding no fit) until the
+  // fourth frame in a row loses the track; then acquisition from the centroid.
+  for (int k = 25; k < 28; ++k) EXPECT_EQ(outcomes[k], TrackOutcome::kRejected) << k;
+  EXPECT_EQ(outcomes[28], TrackOutcome::kLost);
+  EXPECT_EQ(outcomes[29], TrackOutcome::kStarted);
+  EXPECT_EQ(seeds[29], SeedMode::kCentroid);
+  for (int k = 30; k < 40; ++k) EXPECT_EQ(outcomes[k], TrackOutcome::kAccepted) << k;
+}
+
+// Tracking when the stamps go back (a bag loop): a new track from that frame, never a NaN.
+TEST(Registrar, TrackingStartsAgainWhenStampsGoBack) {
+  RegistrarOptions options;
+  options.reference = ReferenceKind::kDense;
+  options.track = true;
+  options.seed = SeedMode::kPrediction;
+  Registrar registrar(options);
+  registrar.BuildStaticReference(Receiver(), {});
+  const Frame f;
+  for (int k = 0; k < 5; ++k) ASSERT_TRUE(registrar.Register(f.sensed, 10.0 + 0.1 * k).valid);
+  const RegistrarResult back = registrar.Register(f.sensed, 3.0);
+  EXPECT_EQ(back.track.outcome, TrackOutcome::kStarted);
+  EXPECT_NE(back.track.reason.find("stamp went back"), std::string::npos) << back.track.reason;
+  EXPECT_EQ(back.seed, SeedMode::kCentroid);
+  EXPECT_TRUE(back.valid);
+  // A cloud with NaN points among good ones: registered on the finite ones.
+  std::vector<Eigen::Vector3d> with_nan = f.sensed;
+  with_nan[3] = Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
+  const RegistrarResult r = registrar.Register(with_nan, 3.1);
+  EXPECT_EQ(r.track.outcome, TrackOutcome::kAccepted) << r.track.reason << r.error;
+  EXPECT_TRUE(r.T_tanker_receiver.matrix().allFinite());
+}
+
+TEST(Registrar, RefusesOptionsThatCannotWork) {
+  RegistrarOptions options;
+  options.seed = SeedMode::kPrediction;  // without tracking
+  EXPECT_THROW(Registrar{options}, std::invalid_argument);
+  options = {};
+  options.max_sensed_points = 3;
+  EXPECT_THROW(Registrar{options}, std::invalid_argument);
+  options = {};
+  options.gate.min_fitness = 1.5;
+  EXPECT_THROW(Registrar{options}, std::invalid_argument);
 }
 
 }  // namespace

@@ -171,13 +171,13 @@ TEST(Tracker, StampGoingBackAndNonFiniteRegistrationsAreHandled) {
   Eigen::Isometry3d broken = Truth(11 * kDt);
   broken.translation().x() = nan;
   const TrackUpdate u = tracker.Update(11 * kDt, broken, noisy.Covariance());
-  EXPECT_EQ(u.outcome, TrackOutcome::kMissed);
+  EXPECT_EQ(u.outcome, TrackOutcome::kRejected);
   EXPECT_NE(u.reason.find("not finite"), std::string::npos) << u.reason;
   EXPECT_TRUE(u.filtered.T_tanker_receiver.matrix().allFinite());
   Matrix6d bad_covariance = noisy.Covariance();
   bad_covariance(2, 2) = nan;
   EXPECT_EQ(tracker.Update(12 * kDt, Truth(12 * kDt), bad_covariance).outcome,
-            TrackOutcome::kMissed);
+            TrackOutcome::kRejected);
   EXPECT_TRUE(tracker.Predict(13 * kDt).T_tanker_receiver.matrix().allFinite());
   EXPECT_TRUE(tracker.Predict(13 * kDt).covariance.allFinite());
 

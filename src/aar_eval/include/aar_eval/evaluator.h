@@ -23,6 +23,10 @@ struct Estimate {
   int iterations = 0;
   double rms = 0.0;              // [m]
   double registration_ms = 0.0;  // [ms]
+  // [m^2, rad^2] of T_tanker_receiver: position, then rotation (R_truth = Exp(dtheta) R),
+  // tanker frame; zero when not estimated.
+  Eigen::Matrix<double, 6, 6> covariance = Eigen::Matrix<double, 6, 6>::Zero();
+  std::string track = "off";  // the tracker's outcome by name
 };
 
 // One frame whose outcome is final, in stamp order.

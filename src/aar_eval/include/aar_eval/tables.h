@@ -1,6 +1,7 @@
 #pragma once
 
 #include <array>
+#include <limits>
 #include <map>
 #include <string>
 #include <vector>
@@ -22,6 +23,10 @@ struct FrameRecord {
   int iterations = 0;
   double rms = 0.0;              // [m] ICP
   double registration_ms = 0.0;  // [ms]
+  std::string track = "off";     // the tracker's outcome (aar_msgs/PoseEstimate TRACK_*), by name
+  // Normalised estimation error squared of the pose against its covariance (6 degrees of
+  // freedom: about 6 on average when the covariance is honest); NaN without a covariance.
+  double nees = std::numeric_limits<double>::quiet_NaN();
 };
 
 // Per region and component: average error magnitude and RMS error (thesis Eq. 7), over the frames

@@ -12,6 +12,10 @@ Estimate ToEstimate(const aar_msgs::PoseEstimate& msg) {
   e.iterations = static_cast<int>(msg.iterations);
   e.rms = msg.rms;
   e.registration_ms = msg.registration_ms;
+  for (int i = 0; i < 36; ++i) e.covariance(i / 6, i % 6) = msg.covariance[i];
+  static const char* const kTrack[] = {"off",    "started", "accepted", "rejected",
+                                       "missed", "lost",    "reset"};  // TRACK_* in order
+  e.track = msg.track < sizeof(kTrack) / sizeof(kTrack[0]) ? kTrack[msg.track] : "?";
   return e;
 }
 

@@ -5,6 +5,8 @@
 
 #include <Eigen/Geometry>
 
+#include "aar_registration/types.h"
+
 namespace aar_registration {
 
 // Point-to-point (thesis) and point-to-plane are implemented here; generalized ICP is PCL's
@@ -19,6 +21,13 @@ struct IcpOptions {
       1e-5;                      // [m] converged when RMS falls by less (thesis: stops improving)
   double rms_epsilon = 1e-4;     // [m] stop when RMS falls below
   int min_correspondences = 10;  // fewer: not converged
+  // The measurement covariance treats the matched pairs as this many independent ones at most:
+  // stereo errors of neighbouring points are strongly correlated (one disparity error smears a
+  // patch), so thousands of pairs do not pin a pose down thousands of times better.
+  int independent_correspondences = 100;
+  // [m] The residual sigma in the covariance is at least this: noise-free clouds (synthetic ones)
+  // would otherwise claim a perfect pose.
+  double min_residual_sigma = 0.001;
 };
 
 // T_target_source maps source points onto the target.
@@ -29,6 +38,14 @@ struct RegistrationResult {
   double rms = 0.0;      // [m] over the correspondences of T_target_source
   double fitness = 0.0;  // share of source points with a correspondence
   int correspondences = 0;
+  // Of the final pose, from the Gauss-Newton Hessian of the metric's residuals at the final
+  // pairs: sigma^2 (H^T H)^-1, sigma^2 from the residuals, scaled up by correspondences /
+  // independent_correspondences when larger. Order [rotation (rad), translation (m)] of a
+  // left perturbation T_target_source' = Exp(xi) T_target_source, both in the target frame.
+  // Zero when there were too few pairs or the geometry leaves a motion unconstrained
+  // (`degenerate`).
+  Matrix6d covariance = Matrix6d::Zero();
+  bool degenerate = false;  // the pairs leave a rigid motion (nearly) unconstrained
 };
 
 // Iterative closest point against a fixed target whose KD-tree is built once by SetTarget and

@@ -10,14 +10,25 @@
 #include <Eigen/Geometry>
 
 #include "aar_registration/icp.h"
+#include "aar_registration/tracker.h"
 
 namespace aar_registration {
 
 // The reference model registered to: a static one built once from the receiver mesh (thesis:
 // shelled, or its wings and nose), or one given per frame (the occlusion stage's dynamic model).
 enum class ReferenceKind { kShelled, kWingsNose, kDense, kTopic };
-// Thesis: centroid of the sensed points with the tanker's orientation; or the previous estimate.
-enum class SeedMode { kCentroid, kPrevious };
+// Thesis: centroid of the sensed points with the tanker's orientation; or the previous estimate;
+// or the tracker's prediction at the frame's stamp (the centroid while acquiring).
+enum class SeedMode { kCentroid, kPrevious, kPrediction };
+const char* ToString(SeedMode seed);
+
+// A registration the tracker is not even asked about: too loose a fit to be a pose. Loose
+// defaults: far out (region A) the RMS of good registrations reaches half a metre (stereo
+// fattening at the silhouettes); the tracker's innovation gate does the fine rejection.
+struct RegistrationGate {
+  double min_fitness = 0.1;  // share of sensed points matched within max_correspondence_distance
+  double max_rms = 0.7;      // [m] of the matched pairs
+};
 
 struct RegistrarOptions {
   ReferenceKind reference = ReferenceKind::kShelled;
@@ -26,20 +37,48 @@ struct RegistrarOptions {
   IcpOptions icp;
   SeedMode seed = SeedMode::kCentroid;
   double previous_max_age = 1.0;  // [s] older previous estimates are not used as seeds
+  // Registers at most this many sensed points, a random subset drawn with subsample_seed on each
+  // frame (0: all, the thesis).
+  int max_sensed_points = 0;
+  unsigned subsample_seed = 1;
+  // Tracking (not in the thesis): registrations filtered by a constant-velocity model; the
+  // result is the filtered pose with its covariance, and frames whose registration is missing
+  // or fails `gate` or the tracker's innovation gate coast on the prediction.
+  bool track = false;
+  TrackerOptions tracker;
+  RegistrationGate gate;
 };
 
 struct RegistrarResult {
   bool valid = false;  // a pose; otherwise `error` says why not (a miss)
   std::string error;
+  // The estimate: the registration, or with tracking the filtered pose (the prediction on
+  // frames that coast).
   Eigen::Isometry3d T_tanker_receiver = Eigen::Isometry3d::Identity();
-  RegistrationResult icp;    // converged, iterations, rms, fitness, correspondences
-  size_t sensed_points = 0;  // registered (finite, in the tanker frame)
+  // [m^2, rad^2] of T_tanker_receiver: position then rotation (left perturbation), tanker frame.
+  // ICP's covariance, or the filter's with tracking.
+  Matrix6d covariance = Matrix6d::Zero();
+  Eigen::Vector3d velocity = Eigen::Vector3d::Zero();          // [m/s] tanker frame (tracking)
+  Eigen::Vector3d angular_velocity = Eigen::Vector3d::Zero();  // [rad/s] tanker frame (tracking)
+  bool registered = false;  // ICP ran and found a pose (T_tanker_receiver_registered)
+  Eigen::Isometry3d T_tanker_receiver_registered = Eigen::Isometry3d::Identity();
+  SeedMode seed = SeedMode::kCentroid;  // where this frame's ICP started
+  bool tracking = false;                // options.track: `track` below is meaningful
+  TrackUpdate track;                    // outcome, reason, squared Mahalanobis distance
+  RegistrationResult icp;               // converged, iterations, rms, fitness, correspondences
+  size_t sensed_points = 0;             // registered (finite, in the tanker frame, subsampled)
   size_t reference_points = 0;
-  double registration_ms = 0.0;  // [ms] ICP alone
+  double registration_ms = 0.0;  // [ms] seeding, subsampling, ICP and the filter
 };
 
+// ICP's covariance (RegistrationResult::covariance of T_receiver_tanker, receiver frame) as the
+// covariance of T_tanker_receiver: position then rotation, left perturbation, tanker frame.
+Matrix6d CovarianceInTanker(const Matrix6d& icp_covariance,
+                            const Eigen::Isometry3d& T_tanker_receiver);
+
 // Registers each sensed cloud against the receiver's reference model: owns the reference, the
-// seed policy (centroid or previous estimate) and ICP. One per node; not thread-safe.
+// seed policy (centroid, previous estimate or prediction), ICP and, when tracking, the tracker.
+// One per node; not thread-safe.
 class Registrar {
  public:
   explicit Registrar(const RegistrarOptions& options);  // throws std::invalid_argument
@@ -60,13 +99,23 @@ class Registrar {
   // comes back with valid = false and the reason.
   RegistrarResult Register(const std::vector<Eigen::Vector3d>& sensed_in_tanker, double stamp_s);
 
+  // The tracker's pose at `stamp_s` (invalid when not tracking or acquiring), for the stages
+  // before registration (the occlusion stage's predicted pose, stereo's region of interest).
+  TrackPrediction Predict(double stamp_s) const;
+
   const RegistrarOptions& options() const { return options_; }
 
  private:
+  // Registration alone: fills out.icp, out.registered and out.T_tanker_receiver_registered;
+  // throws with the reason when there is no pose.
+  void Align(const std::vector<Eigen::Vector3d>& sensed, const Eigen::Isometry3d& seed,
+             RegistrarResult& out) const;
+
   RegistrarOptions options_;
   Icp icp_;
   std::vector<Eigen::Vector3d> reference_points_;                 // receiver frame
   std::optional<std::pair<double, Eigen::Isometry3d>> previous_;  // stamp [s], T_tanker_receiver
+  Tracker tracker_;
 };
 
 }  // namespace aar_registration

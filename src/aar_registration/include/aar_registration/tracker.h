@@ -5,10 +5,9 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
-namespace aar_registration {
+#include "aar_registration/types.h"
 
-using Matrix6d = Eigen::Matrix<double, 6, 6>;
-using Vector6d = Eigen::Matrix<double, 6, 1>;
+namespace aar_registration {
 
 // The receiver's motion relative to the tanker as a constant-velocity model over SE(3), filtered
 // by an error-state Kalman filter. Pose errors are [position (tanker frame, m), rotation (tanker
@@ -54,6 +53,8 @@ struct TrackPrediction {
   bool valid = false;  // false while acquiring or past max_coast_s
   Eigen::Isometry3d T_tanker_receiver = Eigen::Isometry3d::Identity();
   Matrix6d covariance = Matrix6d::Zero();  // [m^2, rad^2] position then rotation, tanker frame
+  Eigen::Vector3d velocity = Eigen::Vector3d::Zero();          // [m/s] tanker frame
+  Eigen::Vector3d angular_velocity = Eigen::Vector3d::Zero();  // [rad/s] tanker frame
 };
 
 struct TrackUpdate {
@@ -72,15 +73,18 @@ class Tracker {
   TrackState state() const { return state_; }
   int rejections() const { return rejections_; }
 
-  // The pose predicted at `stamp_s`, with its covariance. The filter is not changed.
+  // The pose predicted at `stamp_s`, with its covariance; invalid while acquiring, past
+  // max_coast_s and before the last frame's stamp. The filter is not changed.
   TrackPrediction Predict(double stamp_s) const;
 
   // Folds in a registration at `stamp_s`: T_tanker_receiver with its 6x6 covariance (position,
   // rotation; tanker frame). A non-finite pose or covariance counts as a miss.
   TrackUpdate Update(double stamp_s, const Eigen::Isometry3d& T_tanker_receiver,
                      const Matrix6d& covariance);
-  // A frame at `stamp_s` without a registration.
+  // A frame at `stamp_s` without a registration (kMissed), or with one that failed a check
+  // before the tracker's gate (kRejected, with `reason`).
   TrackUpdate Miss(double stamp_s);
+  TrackUpdate Reject(double stamp_s, const std::string& reason);
 
   // Back to acquisition.
   void Reset();
@@ -91,7 +95,12 @@ class Tracker {
   void Propagate(double stamp_s, Eigen::Vector3d& p, Eigen::Matrix3d& R, Matrix12d& P) const;
   TrackUpdate Coast(double stamp_s, TrackOutcome outcome, const std::string& reason);
   TrackUpdate Lose(TrackOutcome outcome, const std::string& reason);
-  TrackPrediction Current() const;
+  TrackPrediction Current() const { return State(p_, R_, P_); }
+  TrackPrediction State(const Eigen::Vector3d& p, const Eigen::Matrix3d& R,
+                        const Matrix12d& P) const;
+  // Loses the track when the stamp went back; otherwise notes the frame. True: reset.
+  bool CheckStamp(double stamp_s, TrackUpdate* update);
+  TrackUpdate NoRegistration(double stamp_s, TrackOutcome outcome, const std::string& reason);
 
   TrackerOptions options_;
   TrackState state_ = TrackState::kAcquiring;

@@ -29,17 +29,39 @@ ReferencePoints ToReferencePoints(const sensor_msgs::PointCloud2& msg) {
   return out;
 }
 
+// The message's constants follow the enums' order.
+static_assert(aar_msgs::PoseEstimate::SEED_CENTROID == static_cast<int>(SeedMode::kCentroid) &&
+              aar_msgs::PoseEstimate::SEED_PREVIOUS == static_cast<int>(SeedMode::kPrevious) &&
+              aar_msgs::PoseEstimate::SEED_PREDICTION == static_cast<int>(SeedMode::kPrediction));
+static_assert(aar_msgs::PoseEstimate::TRACK_STARTED == 1 + static_cast<int>(TrackOutcome::kStarted) &&
+              aar_msgs::PoseEstimate::TRACK_ACCEPTED == 1 + static_cast<int>(TrackOutcome::kAccepted) &&
+              aar_msgs::PoseEstimate::TRACK_REJECTED == 1 + static_cast<int>(TrackOutcome::kRejected) &&
+              aar_msgs::PoseEstimate::TRACK_MISSED == 1 + static_cast<int>(TrackOutcome::kMissed) &&
+              aar_msgs::PoseEstimate::TRACK_LOST == 1 + static_cast<int>(TrackOutcome::kLost) &&
+              aar_msgs::PoseEstimate::TRACK_RESET == 1 + static_cast<int>(TrackOutcome::kReset));
+
 aar_msgs::PoseEstimate ToPoseEstimate(const RegistrarResult& r, const std_msgs::Header& header,
                                       double total_ms) {
   aar_msgs::PoseEstimate estimate;  // valid = false: a miss, and lockstep moves on
   estimate.header = header;
   estimate.total_ms = total_ms;
+  estimate.seed = static_cast<uint8_t>(r.seed);  // SEED_* in SeedMode's order
+  // TRACK_* is 0 for off, then TrackOutcome's order.
+  estimate.track = static_cast<uint8_t>(r.tracking ? 1 + static_cast<int>(r.track.outcome)
+                                                  : aar_msgs::PoseEstimate::TRACK_OFF);
+  estimate.track_reason = r.tracking ? r.track.reason : "";
+  estimate.mahalanobis2 = r.track.mahalanobis2;
+  estimate.registered = r.registered;
+  estimate.registered_pose = tf2::toMsg(r.T_tanker_receiver_registered);
   if (!r.valid) {
     estimate.pose.orientation.w = 1.0;
     return estimate;
   }
   estimate.valid = true;
   estimate.pose = tf2::toMsg(r.T_tanker_receiver);
+  for (int i = 0; i < 36; ++i) estimate.covariance[i] = r.covariance(i / 6, i % 6);
+  tf2::toMsg(r.velocity, estimate.velocity.linear);
+  tf2::toMsg(r.angular_velocity, estimate.velocity.angular);
   estimate.converged = r.icp.converged;
   estimate.iterations = static_cast<uint32_t>(r.icp.iterations);
   estimate.rms = r.icp.rms;

@@ -23,18 +23,11 @@ RegistrationNodeOptions LoadRegistrationNodeOptions(const ros::NodeHandle& nh) {
   RegistrationNodeOptions o;
   RegistrarOptions& r = o.registrar;
   aar_ros_common::ParamReader params(nh);
-  const std::string reference = params.Get<std::string>("reference", "shelled");
-  if (reference == "shelled")
-    r.reference = ReferenceKind::kShelled;
-  else if (reference == "wings_nose")
-    r.reference = ReferenceKind::kWingsNose;
-  else if (reference == "dense")
-    r.reference = ReferenceKind::kDense;
-  else if (reference == "topic")
-    r.reference = ReferenceKind::kTopic;
-  else
-    throw std::invalid_argument("~reference must be shelled, wings_nose, dense or topic, not '" +
-                                reference + "'");
+  r.reference = params.GetChoice<ReferenceKind>("reference", "shelled",
+                                                {{"shelled", ReferenceKind::kShelled},
+                                                 {"wings_nose", ReferenceKind::kWingsNose},
+                                                 {"dense", ReferenceKind::kDense},
+                                                 {"topic", ReferenceKind::kTopic}});
   o.receiver_mesh = aar_ros_common::LoadReceiverModel(params, r.sampling);
   // Nominal pose for shelling: the default approach's contact pose.
   const Eigen::Vector3d nominal(params.Get("nominal_x", -35.0), params.Get("nominal_y", 0.0),
@@ -44,42 +37,61 @@ RegistrationNodeOptions LoadRegistrationNodeOptions(const ros::NodeHandle& nh) {
       aar_geometry::DegToRad(params.Get("nominal_pitch_deg", -2.0)),
       aar_geometry::DegToRad(params.Get("nominal_yaw_deg", 0.0))};
   r.T_tanker_receiver_nominal = aar_geometry::MakeTransform(nominal, nominal_rpy);
-  const std::string metric = params.Get<std::string>("icp_metric", "point_to_point");
-  if (metric == "point_to_point")
-    r.icp.metric = IcpMetric::kPointToPoint;
-  else if (metric == "point_to_plane")
-    r.icp.metric = IcpMetric::kPointToPlane;
-  else if (metric == "generalized_pcl")
-    r.icp.metric = IcpMetric::kGeneralizedPcl;
-  else
-    throw std::invalid_argument(
-        "~icp_metric must be point_to_point, point_to_plane or generalized_pcl, not '" + metric +
-        "'");
+  r.icp.metric = params.GetChoice<IcpMetric>("icp_metric", "point_to_point",
+                                             {{"point_to_point", IcpMetric::kPointToPoint},
+                                              {"point_to_plane", IcpMetric::kPointToPlane},
+                                              {"generalized_pcl", IcpMetric::kGeneralizedPcl}});
   r.icp.max_iterations = params.Get("max_iterations", r.icp.max_iterations);
   r.icp.max_correspondence_distance =
       params.Get("max_correspondence_distance", r.icp.max_correspondence_distance);
   r.icp.min_rms_improvement = params.Get("min_rms_improvement", r.icp.min_rms_improvement);
   r.icp.rms_epsilon = params.Get("rms_epsilon", r.icp.rms_epsilon);
-  const std::string seed = params.Get<std::string>("seed", "centroid");
-  if (seed == "centroid")
-    r.seed = SeedMode::kCentroid;
-  else if (seed == "previous")
-    r.seed = SeedMode::kPrevious;
-  else
-    throw std::invalid_argument("~seed must be centroid or previous, not '" + seed + "'");
+  r.icp.independent_correspondences =
+      params.Get("independent_correspondences", r.icp.independent_correspondences);
+  r.seed = params.GetChoice<SeedMode>("seed", "centroid",
+                                      {{"centroid", SeedMode::kCentroid},
+                                       {"previous", SeedMode::kPrevious},
+                                       {"prediction", SeedMode::kPrediction}});
   r.previous_max_age = params.Get("previous_max_age", r.previous_max_age);
+  r.max_sensed_points = params.Get("max_sensed_points", r.max_sensed_points);
+  r.subsample_seed = static_cast<unsigned>(
+      params.Get("subsample_seed", static_cast<int>(r.subsample_seed)));
+  r.track = params.Get("track", r.track);
+  r.gate.min_fitness = params.Get("gate_min_fitness", r.gate.min_fitness);
+  r.gate.max_rms = params.Get("gate_max_rms", r.gate.max_rms);
+  TrackerOptions& t = r.tracker;
+  t.acceleration_sigma = params.Get("acceleration_sigma", t.acceleration_sigma);
+  t.angular_acceleration_sigma =
+      params.Get("angular_acceleration_sigma", t.angular_acceleration_sigma);
+  t.initial_velocity_sigma = params.Get("initial_velocity_sigma", t.initial_velocity_sigma);
+  t.initial_angular_velocity_sigma =
+      params.Get("initial_angular_velocity_sigma", t.initial_angular_velocity_sigma);
+  t.gate_chi2 = params.Get("gate_chi2", t.gate_chi2);
+  t.max_rejections = params.Get("max_rejections", t.max_rejections);
+  t.max_coast_s = params.Get("max_coast", t.max_coast_s);
   o.frames = aar_ros_common::LoadStackFrames(params);
   o.truth_frame = params.Get("truth_frame", o.truth_frame);
   o.tf_timeout = params.Get("tf_timeout", o.tf_timeout);
   o.reference_timeout = params.Get("reference_timeout", o.reference_timeout);
+  o.diagnostic_period = params.Get("diagnostic_period", o.diagnostic_period);
+  params.Check(o.diagnostic_period > 0.0, "diagnostic_period", "must be > 0");
 
   params.RejectUnknown();
   return o;
 }
 
-RegistrationNode::RegistrationNode(ros::NodeHandle nh, ros::NodeHandle,
+RegistrationNode::RegistrationNode(ros::NodeHandle nh, ros::NodeHandle private_nh,
                                    const RegistrationNodeOptions& options)
-    : nh_(nh), options_(options), tf_listener_(tf_buffer_), registrar_(options.registrar) {
+    : nh_(nh),
+      options_(options),
+      tf_listener_(tf_buffer_),
+      registrar_(options.registrar),
+      diagnostics_(nh, private_nh) {
+  diagnostics_.setHardwareID("registration");
+  diagnostics_.add("registration", this, &RegistrationNode::Diagnose);
+  diagnostics_timer_ =
+      nh_.createWallTimer(ros::WallDuration(options_.diagnostic_period),
+                          [this](const ros::WallTimerEvent&) { diagnostics_.force_update(); });
   pose_pub_ = nh_.advertise<geometry_msgs::PoseWithCovarianceStamped>("aar/receiver_pose", 10);
   estimate_pub_ = nh_.advertise<aar_msgs::PoseEstimate>("aar/pose_estimate", 10);
   PublishModels();
@@ -101,6 +113,7 @@ RegistrationNode::RegistrationNode(ros::NodeHandle nh, ros::NodeHandle,
 }
 
 RegistrationNode::~RegistrationNode() {
+  diagnostics_timer_.stop();  // it reads members destroyed before it
   pending_timer_.stop();
   cloud_sub_.shutdown();
   points_filter_.unsubscribe();
@@ -208,6 +221,13 @@ void RegistrationNode::Register(const sensor_msgs::PointCloud2::ConstPtr& msg) {
   }
   if (!result.valid)
     ReportError("cloud not registered, no estimate for this frame: " + result.error);
+  if (result.tracking) {
+    const TrackOutcome outcome = result.track.outcome;
+    if ((outcome == TrackOutcome::kLost || outcome == TrackOutcome::kReset) &&
+        errors_.ShouldLog("track " + std::string(ToString(outcome))))
+      ROS_WARN_STREAM("registration: track " << ToString(outcome) << " at " << msg->header.stamp
+                                             << ", acquiring again: " << result.track.reason);
+  }
   Publish(result, msg->header.stamp, total_ms());
   if (result.valid) {
     ROS_DEBUG_STREAM("registration: " << msg->header.stamp << ": " << result.icp.iterations
@@ -223,10 +243,22 @@ void RegistrationNode::Publish(const RegistrarResult& result, const ros::Time& s
   header.stamp = stamp;
   header.frame_id = options_.frames.tanker;
   const aar_msgs::PoseEstimate estimate = ToPoseEstimate(result, header, total_ms);
+  {
+    std::lock_guard<std::mutex> lock(report_mutex_);
+    ++frames_;
+    estimates_ += result.valid;
+    last_error_ = result.valid ? "" : result.error;
+    if (result.tracking) {
+      ++outcomes_[result.track.outcome];
+      last_outcome_ = result.track.outcome;
+      if (!result.track.reason.empty()) last_track_reason_ = result.track.reason;
+    }
+  }
   if (result.valid) {
-    geometry_msgs::PoseWithCovarianceStamped pose;  // covariance not estimated: zeros
+    geometry_msgs::PoseWithCovarianceStamped pose;
     pose.header = header;
     pose.pose.pose = estimate.pose;
+    pose.pose.covariance = estimate.covariance;
     geometry_msgs::TransformStamped tf = tf2::eigenToTransform(result.T_tanker_receiver);
     tf.header = header;
     tf.child_frame_id = options_.frames.receiver;
@@ -234,6 +266,27 @@ void RegistrationNode::Publish(const RegistrarResult& result, const ros::Time& s
     pose_pub_.publish(pose);
   }
   estimate_pub_.publish(estimate);
+}
+
+void RegistrationNode::Diagnose(diagnostic_updater::DiagnosticStatusWrapper& status) {
+  std::lock_guard<std::mutex> lock(report_mutex_);
+  status.add("frames", frames_);
+  status.add("frames estimated", estimates_);
+  status.add("tracking", options_.registrar.track);
+  for (const auto& [outcome, count] : outcomes_)
+    status.add(std::string("frames ") + ToString(outcome), count);
+  if (!last_track_reason_.empty()) status.add("last track event", last_track_reason_);
+  if (!last_error_.empty()) {
+    status.summary(diagnostic_msgs::DiagnosticStatus::ERROR,
+                   "last frame has no estimate: " + last_error_);
+  } else if (options_.registrar.track && frames_ > 0 &&
+             (last_outcome_ == TrackOutcome::kRejected ||
+              last_outcome_ == TrackOutcome::kMissed)) {
+    status.summary(diagnostic_msgs::DiagnosticStatus::WARN,
+                   "coasting on the prediction: " + last_track_reason_);
+  } else {
+    status.summary(diagnostic_msgs::DiagnosticStatus::OK, frames_ > 0 ? "estimating" : "no input");
+  }
 }
 
 void RegistrationNode::PublishModels() {

@@ -3,6 +3,7 @@
 #include <set>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <ros/node_handle.h>
@@ -34,6 +35,21 @@ class ParamReader {
                                   ") is not set");
     }
     return value;
+  }
+
+  // One of `choices` by name (`fallback` when unset). Throws std::invalid_argument naming the
+  // key and the choices for any other value.
+  template <typename Enum>
+  Enum GetChoice(const std::string& name, const std::string& fallback,
+                 const std::vector<std::pair<std::string, Enum>>& choices) {
+    const std::string value = Get<std::string>(name, fallback);
+    std::string names;
+    for (const auto& [choice, e] : choices) {
+      if (choice == value) return e;
+      names += (names.empty() ? "" : ", ") + choice;
+    }
+    throw std::invalid_argument("parameter " + nh_.resolveName(name) + " must be one of " + names +
+                                ", not '" + value + "'");
   }
 
   // A key read by someone else (dynamic_reconfigure, diagnostic_updater, a launch file's habit).

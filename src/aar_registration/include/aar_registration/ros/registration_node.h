@@ -1,5 +1,6 @@
 #pragma once
 
+#include <map>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -8,6 +9,7 @@
 
 #include <aar_ros_common/error_throttle.h>
 #include <aar_ros_common/frames.h>
+#include <diagnostic_updater/diagnostic_updater.h>
 #include <message_filters/subscriber.h>
 #include <message_filters/time_synchronizer.h>
 #include <ros/ros.h>
@@ -29,6 +31,7 @@ struct RegistrationNodeOptions {
   // [s wall] reference: topic: a cloud without a reference of its stamp this long is answered
   // with an invalid estimate.
   double reference_timeout = 2.0;
+  double diagnostic_period = 1.0;  // [s wall] /diagnostics
 };
 
 // Reads ~parameters (one function, unknown keys rejected); throws std::invalid_argument.
@@ -36,7 +39,8 @@ RegistrationNodeOptions LoadRegistrationNodeOptions(const ros::NodeHandle& priva
 
 // The ROS side of Registrar: each sensed cloud (~points, any frame with tf to the tanker), paired
 // by stamp with its reference (aar/reference_cloud) when the reference is a topic, goes to the
-// registrar; the pose goes out as aar/receiver_pose, aar/pose_estimate and tf.
+// registrar; the pose goes out as aar/receiver_pose (with its covariance), aar/pose_estimate
+// and tf; the track's health on /diagnostics.
 class RegistrationNode {
  public:
   RegistrationNode(ros::NodeHandle nh, ros::NodeHandle private_nh,
@@ -54,6 +58,7 @@ class RegistrationNode {
   void PublishModels();
   void BuildStaticReference();
   void ReportError(const std::string& what);
+  void Diagnose(diagnostic_updater::DiagnosticStatusWrapper& status);
 
   ros::NodeHandle nh_;
   RegistrationNodeOptions options_;
@@ -74,6 +79,14 @@ class RegistrationNode {
   std::mutex mutex_;  // the registrar
   Registrar registrar_;
   aar_ros_common::ErrorThrottle errors_;
+
+  diagnostic_updater::Updater diagnostics_;
+  ros::WallTimer diagnostics_timer_;
+  std::mutex report_mutex_;  // what diagnostics read
+  size_t frames_ = 0, estimates_ = 0;
+  std::map<TrackOutcome, size_t> outcomes_;  // tracking: frames by outcome
+  std::string last_error_, last_track_reason_;
+  TrackOutcome last_outcome_ = TrackOutcome::kMissed;
 };
 
 }  // namespace aar_registration
