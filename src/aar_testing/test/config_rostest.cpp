@@ -42,6 +42,15 @@ TEST(Config, EveryExperimentLoadsIntoEveryNode) {
         EXPECT_TRUE(occlusion.step.boom.cull_behind_boom);
         EXPECT_EQ(registration.registrar.reference, aar_registration::ReferenceKind::kWingsNose);
       }
+      if (name == "tracking") {  // the dynamic experiment's stages, then a tracker
+        EXPECT_EQ(occlusion.step.cull, aar_occlusion::CullMethod::kVolumes);
+        EXPECT_TRUE(occlusion.step.build_reference);
+        EXPECT_EQ(registration.registrar.reference, aar_registration::ReferenceKind::kTopic);
+        EXPECT_TRUE(registration.registrar.track);
+        EXPECT_EQ(registration.registrar.seed, aar_registration::SeedMode::kPrediction);
+      } else {
+        EXPECT_FALSE(registration.registrar.track) << name << " is a thesis experiment";
+      }
       if (name == "naive" || name == "no_boom") {
         EXPECT_EQ(occlusion.step.cull, aar_occlusion::CullMethod::kNone);
         EXPECT_EQ(registration.registrar.reference, aar_registration::ReferenceKind::kShelled);
@@ -51,7 +60,7 @@ TEST(Config, EveryExperimentLoadsIntoEveryNode) {
       ADD_FAILURE() << "experiment " << name << ": " << e.what();
     }
   }
-  EXPECT_EQ(experiments, 4);
+  EXPECT_EQ(experiments, 5);  // the thesis's four and tracking
 }
 
 TEST(Config, StereoAndEvalLoadAsTheLaunchFilesGiveThem) {

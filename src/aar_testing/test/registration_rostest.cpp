@@ -1,6 +1,10 @@
 #include <gtest/gtest.h>
 
+#include <aar_geometry/mesh_io.h>
+#include <aar_geometry/pose.h>
 #include <aar_geometry/pose_error.h>
+#include <aar_geometry/receiver_reference.h>
+#include <diagnostic_msgs/DiagnosticArray.h>
 #include <aar_msgs/PoseError.h>
 #include <aar_msgs/PoseEstimate.h>
 #include <ros/ros.h>
@@ -9,6 +13,7 @@
 #include <tf2_ros/static_transform_broadcaster.h>
 #include <tf2_ros/transform_listener.h>
 #include "aar_testing/logged_errors.h"
+#include "aar_testing/paths.h"
 #include "aar_testing/stamped_collector.h"
 #include "aar_testing/wait.h"
 
@@ -217,6 +222,110 @@ TEST(TopicReference, PairsByStampUsesClassZeroAndAnswersWithoutReference) {
   EXPECT_EQ(paired->reference_points, shape.size());
   EXPECT_NEAR(paired->pose.position.x, -35.0, 0.01);
   EXPECT_NEAR(paired->pose.position.y, 0.0, 0.01);
+}
+
+// Tracking in the node: the receiver (every 8th dense sample) flies past "sensor" at 0.5 m/s, 10
+// clouds a second. Clouds with no receiver coast on the prediction (valid, TRACK_REJECTED) until
+// max_rejections (3) loses the track (invalid, TRACK_LOST); the receiver back starts a new one;
+// a cloud from the past (a bag loop) starts one again; a cloud of NaN points never gives a NaN
+// pose. Counts and the last event are on /diagnostics.
+TEST(Tracking, CoastsLosesReacquiresAndResetsOnStampsGoingBack) {
+  ros::NodeHandle nh;
+  ros::Publisher clouds = nh.advertise<sensor_msgs::PointCloud2>("/points", 20);
+  aar_testing::StampedCollector<aar_msgs::PoseEstimate> estimates(nh, "/aar/pose_estimate");
+  std::mutex diagnostics_mutex;
+  std::map<std::string, std::string> diagnostics;
+  ros::Subscriber diagnostics_sub = nh.subscribe<diagnostic_msgs::DiagnosticArray>(
+      "/diagnostics", 10, [&](const diagnostic_msgs::DiagnosticArray::ConstPtr& msg) {
+        std::lock_guard<std::mutex> lock(diagnostics_mutex);
+        for (const auto& status : msg->status) {
+          for (const auto& kv : status.values) diagnostics[kv.key] = kv.value;
+        }
+      });
+  tf2_ros::StaticTransformBroadcaster static_tf;
+  static_tf.sendTransform(SensorMount());
+  aar_testing::WaitFor(
+      [&] { return clouds.getNumSubscribers() > 0 && estimates.sub.getNumPublishers() > 0; }, 30.0);
+  ASSERT_GT(clouds.getNumSubscribers(), 0u);
+  const auto dense = aar_geometry::SampleReceiver(
+      aar_geometry::LoadMesh(aar_testing::ModelsDir() + "/receiver.obj"), {});
+  auto receiver_at = [&](double x) {  // in "sensor", 35 m aft of the tanker
+    std::vector<Eigen::Vector3f> points;
+    const Eigen::Isometry3d T = aar_geometry::MakeTransform({x, 0.2, 0.0}, {0.0, -0.035, 0.0});
+    for (size_t i = 0; i < dense.size(); i += 8) points.push_back((T * dense.points[i]).cast<float>());
+    return points;
+  };
+  const std::vector<Eigen::Vector3f> nothing(30, Eigen::Vector3f(2000.0f, 0.0f, 0.0f));
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  const std::vector<Eigen::Vector3f> nans(30, Eigen::Vector3f(nan, nan, nan));
+  // Publishes one cloud at `t` [s] and waits for its estimate.
+  auto send = [&](double t, const std::vector<Eigen::Vector3f>& points) {
+    auto cloud = Cloud("sensor", points);
+    cloud.header.stamp = ros::Time(100.0 + t);
+    clouds.publish(cloud);
+    aar_msgs::PoseEstimate::ConstPtr got;
+    aar_testing::WaitFor(
+        [&] {
+          std::lock_guard<std::mutex> lock(estimates.mutex);
+          const auto it = estimates.by_stamp.find(cloud.header.stamp);
+          if (it != estimates.by_stamp.end()) got = it->second;
+          return got != nullptr;
+        },
+        10.0);
+    return got;
+  };
+  using E = aar_msgs::PoseEstimate;
+  std::vector<uint8_t> tracks;
+  std::vector<bool> valid;
+  double t = 0.0;
+  auto step = [&](const std::vector<Eigen::Vector3f>& points) {
+    const auto e = send(t, points);
+    t += 0.1;
+    if (!e) {
+      ADD_FAILURE() << "no estimate at " << t - 0.1 << " s";
+      return;
+    }
+    EXPECT_TRUE(std::isfinite(e->pose.position.x) && std::isfinite(e->pose.orientation.w));
+    for (double c : e->covariance) EXPECT_TRUE(std::isfinite(c));
+    tracks.push_back(e->track);
+    valid.push_back(e->valid);
+  };
+  for (int k = 0; k < 6; ++k) step(receiver_at(0.05 * k));  // 0-5: started, then accepted
+  step(nothing);                                             // 6, 7: coasting
+  step(nans);
+  step(nothing);                                             // 8: the third: lost
+  for (int k = 0; k < 3; ++k) step(receiver_at(0.3));        // 9: started, 10-11 accepted
+  t = 0.25;                                                  // 12: back in time
+  step(receiver_at(0.3));
+  ASSERT_EQ(tracks.size(), 13u);
+  const std::vector<uint8_t> expected = {
+      E::TRACK_STARTED,  E::TRACK_ACCEPTED, E::TRACK_ACCEPTED, E::TRACK_ACCEPTED, E::TRACK_ACCEPTED,
+      E::TRACK_ACCEPTED, E::TRACK_REJECTED, E::TRACK_REJECTED, E::TRACK_LOST,     E::TRACK_STARTED,
+      E::TRACK_ACCEPTED, E::TRACK_ACCEPTED, E::TRACK_STARTED};
+  for (size_t k = 0; k < expected.size(); ++k) {
+    EXPECT_EQ(static_cast<int>(tracks[k]), static_cast<int>(expected[k])) << "cloud " << k;
+    EXPECT_EQ(valid[k], k != 8) << "cloud " << k;  // coasting is an estimate; lost is not
+  }
+  {
+    std::lock_guard<std::mutex> lock(estimates.mutex);
+    const auto& reset = estimates.by_stamp.at(ros::Time(100.25));
+    EXPECT_NE(reset->track_reason.find("stamp went back"), std::string::npos) << reset->track_reason;
+    EXPECT_EQ(reset->seed, E::SEED_CENTROID);
+    EXPECT_EQ(estimates.by_stamp.at(ros::Time(100.5))->seed, E::SEED_PREDICTION);
+    EXPECT_GT(estimates.by_stamp.at(ros::Time(100.5))->covariance[0], 0.0);
+  }
+  aar_testing::WaitFor(
+      [&] {
+        std::lock_guard<std::mutex> lock(diagnostics_mutex);
+        return diagnostics["frames"] == "13";
+      },
+      5.0);
+  std::lock_guard<std::mutex> lock(diagnostics_mutex);
+  EXPECT_EQ(diagnostics["frames lost"], "1");
+  EXPECT_EQ(diagnostics["frames rejected"], "2");
+  EXPECT_EQ(diagnostics["frames started"], "3");
+  EXPECT_NE(diagnostics["last track event"].find("stamp went back"), std::string::npos)
+      << diagnostics["last track event"];
 }
 
 TEST(BadInput, MissingReferenceMeshExitsNamingIt) {
