@@ -5,9 +5,9 @@
 #include <limits>
 #include <sstream>
 
-#include <Eigen/Cholesky>
 #include <aar_geometry/pose.h>
 #include <aar_geometry/pose_error.h>
+#include <Eigen/Cholesky>
 
 namespace aar_eval {
 namespace {

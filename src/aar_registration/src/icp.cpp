@@ -158,12 +158,12 @@ RegistrationResult Icp::Align(const std::vector<Eigen::Vector3d>& source,
     const Eigen::SelfAdjointEigenSolver<Matrix6d> eigen(H);
     result.degenerate = !(eigen.eigenvalues()(0) > 1e-9 * eigen.eigenvalues()(5));
     if (result.degenerate) return;
-    const double correlation = std::max(
-        1.0, static_cast<double>(pairs.size()) / options_.independent_correspondences);
+    const double correlation =
+        std::max(1.0, static_cast<double>(pairs.size()) / options_.independent_correspondences);
     const double sigma2 =
         std::max(sum_r2 / dof, options_.min_residual_sigma * options_.min_residual_sigma);
-    result.covariance = correlation * sigma2 * eigen.operatorInverseSqrt() *
-                        eigen.operatorInverseSqrt();
+    result.covariance =
+        correlation * sigma2 * eigen.operatorInverseSqrt() * eigen.operatorInverseSqrt();
   };
 
   if (options_.metric == IcpMetric::kGeneralizedPcl) {

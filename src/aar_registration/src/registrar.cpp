@@ -20,7 +20,8 @@ Registrar::Registrar(const RegistrarOptions& options)
   if (options.seed == SeedMode::kPrediction && !options.track)
     throw std::invalid_argument("the prediction seed needs tracking (track: true)");
   if (options.max_sensed_points != 0 && options.max_sensed_points < options.icp.min_correspondences)
-    throw std::invalid_argument("max_sensed_points must be 0 (all) or at least min_correspondences");
+    throw std::invalid_argument(
+        "max_sensed_points must be 0 (all) or at least min_correspondences");
   if (!(options.gate.min_fitness >= 0.0 && options.gate.min_fitness <= 1.0) ||
       !(options.gate.max_rms > 0.0))
     throw std::invalid_argument("gate: min_fitness must be in [0, 1] and max_rms > 0");
@@ -146,9 +147,9 @@ RegistrarResult Registrar::Register(const std::vector<Eigen::Vector3d>& all_sens
     else if (!gate.str().empty())
       out.track = tracker_.Reject(stamp_s, "registration rejected: " + gate.str());
     else
-      out.track = tracker_.Update(
-          stamp_s, out.T_tanker_receiver_registered,
-          CovarianceInTanker(out.icp.covariance, out.T_tanker_receiver_registered));
+      out.track =
+          tracker_.Update(stamp_s, out.T_tanker_receiver_registered,
+                          CovarianceInTanker(out.icp.covariance, out.T_tanker_receiver_registered));
     const TrackPrediction& filtered = out.track.filtered;
     out.valid = filtered.valid;
     out.T_tanker_receiver = filtered.T_tanker_receiver;

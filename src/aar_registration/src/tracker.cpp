@@ -164,8 +164,7 @@ TrackUpdate Tracker::Reject(double stamp_s, const std::string& reason) {
 
 TrackUpdate Tracker::Update(double stamp_s, const Eigen::Isometry3d& T_tanker_receiver,
                             const Matrix6d& covariance) {
-  if (!T_tanker_receiver.matrix().allFinite() || !covariance.allFinite() ||
-      !std::isfinite(stamp_s))
+  if (!T_tanker_receiver.matrix().allFinite() || !covariance.allFinite() || !std::isfinite(stamp_s))
     return Reject(stamp_s, "registration not finite");
   std::string restart;
   if (has_stamp_ && stamp_s < last_frame_s_) {

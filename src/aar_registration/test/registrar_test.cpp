@@ -181,10 +181,9 @@ TEST(Registrar, TrackingCoastsThroughMissesAndReacquiresAfterAJump) {
   options.tracker.max_rejections = 4;
   Registrar registrar(options);
   registrar.BuildStaticReference(Receiver(), {});
-  const std::vector<Eigen::Vector3d> nothing = {{2000, 0, 0}, {2000, 30, 0}, {2000, 0, 30},
-                                                {2000, 1, 1}, {2000, 2, 1},  {2000, 3, 1},
-                                                {2000, 4, 1}, {2000, 5, 1},  {2000, 6, 1},
-                                                {2000, 7, 1}, {2000, 8, 1},  {2000, 9, 1}};
+  const std::vector<Eigen::Vector3d> nothing = {
+      {2000, 0, 0}, {2000, 30, 0}, {2000, 0, 30}, {2000, 1, 1}, {2000, 2, 1}, {2000, 3, 1},
+      {2000, 4, 1}, {2000, 5, 1},  {2000, 6, 1},  {2000, 7, 1}, {2000, 8, 1}, {2000, 9, 1}};
   Eigen::Vector3d jump = Eigen::Vector3d::Zero();
   auto truth = [&](int k) {
     return aar_geometry::MakeTransform(Eigen::Vector3d(-60.0 + 0.5 * k * 0.1, 0.2, -12.0) + jump,
@@ -195,7 +194,8 @@ TEST(Registrar, TrackingCoastsThroughMissesAndReacquiresAfterAJump) {
   for (int k = 0; k < 40; ++k) {
     if (k == 25) jump = Eigen::Vector3d(0.0, 1.5, 0.0);
     const bool blind = k >= 12 && k < 15;
-    const RegistrarResult r = registrar.Register(blind ? nothing : Sensed(truth(k), 0.005, k), k * 0.1);
+    const RegistrarResult r =
+        registrar.Register(blind ? nothing : Sensed(truth(k), 0.005, k), k * 0.1);
     outcomes.push_back(r.track.outcome);
     seeds.push_back(r.seed);
     SCOPED_TRACE("frame " + std::to_string(k) + ": " + ToString(r.track.outcome) + " " +

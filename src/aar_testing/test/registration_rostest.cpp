@@ -4,9 +4,9 @@
 #include <aar_geometry/pose.h>
 #include <aar_geometry/pose_error.h>
 #include <aar_geometry/receiver_reference.h>
-#include <diagnostic_msgs/DiagnosticArray.h>
 #include <aar_msgs/PoseError.h>
 #include <aar_msgs/PoseEstimate.h>
+#include <diagnostic_msgs/DiagnosticArray.h>
 #include <ros/ros.h>
 #include <sensor_msgs/point_cloud2_iterator.h>
 #include <tf2_eigen/tf2_eigen.h>
@@ -252,7 +252,8 @@ TEST(Tracking, CoastsLosesReacquiresAndResetsOnStampsGoingBack) {
   auto receiver_at = [&](double x) {  // in "sensor", 35 m aft of the tanker
     std::vector<Eigen::Vector3f> points;
     const Eigen::Isometry3d T = aar_geometry::MakeTransform({x, 0.2, 0.0}, {0.0, -0.035, 0.0});
-    for (size_t i = 0; i < dense.size(); i += 8) points.push_back((T * dense.points[i]).cast<float>());
+    for (size_t i = 0; i < dense.size(); i += 8)
+      points.push_back((T * dense.points[i]).cast<float>());
     return points;
   };
   const std::vector<Eigen::Vector3f> nothing(30, Eigen::Vector3f(2000.0f, 0.0f, 0.0f));
@@ -291,11 +292,11 @@ TEST(Tracking, CoastsLosesReacquiresAndResetsOnStampsGoingBack) {
     valid.push_back(e->valid);
   };
   for (int k = 0; k < 6; ++k) step(receiver_at(0.05 * k));  // 0-5: started, then accepted
-  step(nothing);                                             // 6, 7: coasting
+  step(nothing);                                            // 6, 7: coasting
   step(nans);
-  step(nothing);                                             // 8: the third: lost
-  for (int k = 0; k < 3; ++k) step(receiver_at(0.3));        // 9: started, 10-11 accepted
-  t = 0.25;                                                  // 12: back in time
+  step(nothing);                                       // 8: the third: lost
+  for (int k = 0; k < 3; ++k) step(receiver_at(0.3));  // 9: started, 10-11 accepted
+  t = 0.25;                                            // 12: back in time
   step(receiver_at(0.3));
   ASSERT_EQ(tracks.size(), 13u);
   const std::vector<uint8_t> expected = {
@@ -309,7 +310,8 @@ TEST(Tracking, CoastsLosesReacquiresAndResetsOnStampsGoingBack) {
   {
     std::lock_guard<std::mutex> lock(estimates.mutex);
     const auto& reset = estimates.by_stamp.at(ros::Time(100.25));
-    EXPECT_NE(reset->track_reason.find("stamp went back"), std::string::npos) << reset->track_reason;
+    EXPECT_NE(reset->track_reason.find("stamp went back"), std::string::npos)
+        << reset->track_reason;
     EXPECT_EQ(reset->seed, E::SEED_CENTROID);
     EXPECT_EQ(estimates.by_stamp.at(ros::Time(100.5))->seed, E::SEED_PREDICTION);
     EXPECT_GT(estimates.by_stamp.at(ros::Time(100.5))->covariance[0], 0.0);

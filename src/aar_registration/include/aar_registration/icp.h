@@ -24,7 +24,7 @@ struct IcpOptions {
   // The measurement covariance treats the matched pairs as this many independent ones at most:
   // stereo errors of neighbouring points are strongly correlated (one disparity error smears a
   // patch), so thousands of pairs do not pin a pose down thousands of times better.
-  int independent_correspondences = 100;
+  int independent_correspondences = 20;
   // [m] The residual sigma in the covariance is at least this: noise-free clouds (synthetic ones)
   // would otherwise claim a perfect pose.
   double min_residual_sigma = 0.001;

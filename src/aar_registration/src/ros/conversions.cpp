@@ -33,12 +33,13 @@ ReferencePoints ToReferencePoints(const sensor_msgs::PointCloud2& msg) {
 static_assert(aar_msgs::PoseEstimate::SEED_CENTROID == static_cast<int>(SeedMode::kCentroid) &&
               aar_msgs::PoseEstimate::SEED_PREVIOUS == static_cast<int>(SeedMode::kPrevious) &&
               aar_msgs::PoseEstimate::SEED_PREDICTION == static_cast<int>(SeedMode::kPrediction));
-static_assert(aar_msgs::PoseEstimate::TRACK_STARTED == 1 + static_cast<int>(TrackOutcome::kStarted) &&
-              aar_msgs::PoseEstimate::TRACK_ACCEPTED == 1 + static_cast<int>(TrackOutcome::kAccepted) &&
-              aar_msgs::PoseEstimate::TRACK_REJECTED == 1 + static_cast<int>(TrackOutcome::kRejected) &&
-              aar_msgs::PoseEstimate::TRACK_MISSED == 1 + static_cast<int>(TrackOutcome::kMissed) &&
-              aar_msgs::PoseEstimate::TRACK_LOST == 1 + static_cast<int>(TrackOutcome::kLost) &&
-              aar_msgs::PoseEstimate::TRACK_RESET == 1 + static_cast<int>(TrackOutcome::kReset));
+static_assert(
+    aar_msgs::PoseEstimate::TRACK_STARTED == 1 + static_cast<int>(TrackOutcome::kStarted) &&
+    aar_msgs::PoseEstimate::TRACK_ACCEPTED == 1 + static_cast<int>(TrackOutcome::kAccepted) &&
+    aar_msgs::PoseEstimate::TRACK_REJECTED == 1 + static_cast<int>(TrackOutcome::kRejected) &&
+    aar_msgs::PoseEstimate::TRACK_MISSED == 1 + static_cast<int>(TrackOutcome::kMissed) &&
+    aar_msgs::PoseEstimate::TRACK_LOST == 1 + static_cast<int>(TrackOutcome::kLost) &&
+    aar_msgs::PoseEstimate::TRACK_RESET == 1 + static_cast<int>(TrackOutcome::kReset));
 
 aar_msgs::PoseEstimate ToPoseEstimate(const RegistrarResult& r, const std_msgs::Header& header,
                                       double total_ms) {
@@ -48,7 +49,7 @@ aar_msgs::PoseEstimate ToPoseEstimate(const RegistrarResult& r, const std_msgs::
   estimate.seed = static_cast<uint8_t>(r.seed);  // SEED_* in SeedMode's order
   // TRACK_* is 0 for off, then TrackOutcome's order.
   estimate.track = static_cast<uint8_t>(r.tracking ? 1 + static_cast<int>(r.track.outcome)
-                                                  : aar_msgs::PoseEstimate::TRACK_OFF);
+                                                   : aar_msgs::PoseEstimate::TRACK_OFF);
   estimate.track_reason = r.tracking ? r.track.reason : "";
   estimate.mahalanobis2 = r.track.mahalanobis2;
   estimate.registered = r.registered;

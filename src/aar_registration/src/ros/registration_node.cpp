@@ -54,8 +54,8 @@ RegistrationNodeOptions LoadRegistrationNodeOptions(const ros::NodeHandle& nh) {
                                        {"prediction", SeedMode::kPrediction}});
   r.previous_max_age = params.Get("previous_max_age", r.previous_max_age);
   r.max_sensed_points = params.Get("max_sensed_points", r.max_sensed_points);
-  r.subsample_seed = static_cast<unsigned>(
-      params.Get("subsample_seed", static_cast<int>(r.subsample_seed)));
+  r.subsample_seed =
+      static_cast<unsigned>(params.Get("subsample_seed", static_cast<int>(r.subsample_seed)));
   r.track = params.Get("track", r.track);
   r.gate.min_fitness = params.Get("gate_min_fitness", r.gate.min_fitness);
   r.gate.max_rms = params.Get("gate_max_rms", r.gate.max_rms);
@@ -280,8 +280,7 @@ void RegistrationNode::Diagnose(diagnostic_updater::DiagnosticStatusWrapper& sta
     status.summary(diagnostic_msgs::DiagnosticStatus::ERROR,
                    "last frame has no estimate: " + last_error_);
   } else if (options_.registrar.track && frames_ > 0 &&
-             (last_outcome_ == TrackOutcome::kRejected ||
-              last_outcome_ == TrackOutcome::kMissed)) {
+             (last_outcome_ == TrackOutcome::kRejected || last_outcome_ == TrackOutcome::kMissed)) {
     status.summary(diagnostic_msgs::DiagnosticStatus::WARN,
                    "coasting on the prediction: " + last_track_reason_);
   } else {
