@@ -9,12 +9,6 @@
 
 namespace aar_registration {
 
-const char* ToString(SeedMode seed) {
-  static const char* const kNames[] = {"centroid", "previous", "prediction"};  // enum order
-  const auto i = static_cast<size_t>(seed);
-  return i < sizeof(kNames) / sizeof(kNames[0]) ? kNames[i] : "?";
-}
-
 Registrar::Registrar(const RegistrarOptions& options)
     : options_(options), icp_(options.icp), tracker_(options.tracker) {
   if (options.seed == SeedMode::kPrediction && !options.track)
@@ -113,9 +107,7 @@ RegistrarResult Registrar::Register(const std::vector<Eigen::Vector3d>& all_sens
                                   " finite points, too few to register");
     }
     const TrackPrediction prediction = Predict(stamp_s);
-    Eigen::Isometry3d seed =
-        aar_geometry::CentroidSeed(*sensed, reference_points_);  // T_tanker_receiver
-    out.seed = SeedMode::kCentroid;
+    Eigen::Isometry3d seed;  // T_tanker_receiver
     if (options_.seed == SeedMode::kPrevious && previous_ &&
         stamp_s - previous_->first <= options_.previous_max_age && stamp_s >= previous_->first) {
       seed = previous_->second;
@@ -123,6 +115,9 @@ RegistrarResult Registrar::Register(const std::vector<Eigen::Vector3d>& all_sens
     } else if (options_.seed == SeedMode::kPrediction && prediction.valid) {
       seed = prediction.T_tanker_receiver;
       out.seed = SeedMode::kPrediction;
+    } else {  // the centroids only when used: they cost a pass over both clouds
+      seed = aar_geometry::CentroidSeed(*sensed, reference_points_);
+      out.seed = SeedMode::kCentroid;
     }
     Align(*sensed, seed, out);
     if (out.icp.converged) previous_ = std::make_pair(stamp_s, out.T_tanker_receiver_registered);

@@ -20,7 +20,6 @@ enum class ReferenceKind { kShelled, kWingsNose, kDense, kTopic };
 // Thesis: centroid of the sensed points with the tanker's orientation; or the previous estimate;
 // or the tracker's prediction at the frame's stamp (the centroid while acquiring).
 enum class SeedMode { kCentroid, kPrevious, kPrediction };
-const char* ToString(SeedMode seed);
 
 // A registration the tracker is not even asked about: too loose a fit to be a pose. Loose
 // defaults: far out (region A) the RMS of good registrations reaches half a metre (stereo
