@@ -51,8 +51,9 @@ bool Evaluator::AddEstimate(int64_t stamp_ns, const Estimate& estimate) {
 }
 
 std::vector<SettledFrame> Evaluator::SettleReady(const TruthLookup& truth) {
-  if (frames_.size() < 3) return {};
-  return Settle(frames_[frames_.size() - 2], truth);
+  const size_t grace = static_cast<size_t>(grace_frames_);
+  if (frames_.size() <= grace) return {};
+  return Settle(frames_[frames_.size() - grace], truth);
 }
 
 std::vector<SettledFrame> Evaluator::SettleAll(const TruthLookup& truth) {

@@ -48,6 +48,19 @@ TEST(Evaluator, NeesOfTheEstimateAgainstItsCovariance) {
   EXPECT_EQ(settled[1].record.track, "off");
 }
 
+TEST(Evaluator, LongerGraceKeepsLateEstimates) {
+  // Real time: estimates lag frames behind; with 5 frames of grace the 5th-newest still counts.
+  Evaluator eval(1.0, 0, 5);
+  for (int k = 2; k <= 6; ++k) eval.AddFrame(k * kSecond);
+  EXPECT_TRUE(eval.SettleReady(Truth).empty());
+  EXPECT_TRUE(eval.AddEstimate(2 * kSecond, At(-34.4)));  // four frames late: kept
+  eval.AddFrame(7 * kSecond);
+  const auto settled = eval.SettleReady(Truth);
+  ASSERT_EQ(settled.size(), 1u);
+  EXPECT_TRUE(settled[0].record.estimated);
+  EXPECT_FALSE(eval.AddEstimate(2 * kSecond, At(-34.4)));
+}
+
 TEST(Evaluator, SettlesAllButTheNewestTwoFramesAndRecordsMisses) {
   Evaluator eval(1.0, 6);
   EXPECT_EQ(eval.AddFrame(2 * kSecond), Evaluator::FrameStatus::kNew);

@@ -63,4 +63,15 @@ Eigen::Isometry3d T_body_optical() {
   return T;
 }
 
+Eigen::Isometry3d ExtrapolatePose(const Eigen::Isometry3d& T_parent_body,
+                                  const Eigen::Vector3d& velocity,
+                                  const Eigen::Vector3d& angular_velocity, double dt) {
+  const Eigen::Vector3d phi = angular_velocity * dt;
+  const double angle = phi.norm();
+  Eigen::Isometry3d T = T_parent_body;
+  T.translation() += velocity * dt;
+  if (angle > 0.0) T.linear() = Eigen::AngleAxisd(angle, phi / angle) * T_parent_body.linear();
+  return T;
+}
+
 }  // namespace aar_geometry

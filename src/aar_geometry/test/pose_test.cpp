@@ -102,5 +102,20 @@ TEST(Pose, MakeTransformPlacesAndTurns) {
   EXPECT_TRUE((T * Eigen::Vector3d::UnitX()).isApprox(Eigen::Vector3d(-35.0, 1.0, -8.0)));
 }
 
+TEST(Pose, ExtrapolateMovesOnAtConstantVelocity) {
+  const Eigen::Isometry3d T = MakeTransform({-50.0, 1.0, -10.0}, {0.01, -0.02, 0.3});
+  const Eigen::Vector3d v(2.0, -0.5, 0.25), w(0.0, 0.0, 0.1);
+  const Eigen::Isometry3d T1 = ExtrapolatePose(T, v, w, 0.5);
+  EXPECT_TRUE(T1.translation().isApprox(T.translation() + 0.5 * v, 1e-12));
+  // A turn about the parent's z by 0.05 rad: yaw grows by that, roll and pitch about z stay.
+  const Eigen::Matrix3d expected = Eigen::AngleAxisd(0.05, Eigen::Vector3d::UnitZ()) * T.linear();
+  EXPECT_TRUE(T1.linear().isApprox(expected, 1e-12));
+  // Back by the same time is the inverse step; zero rates and zero time change nothing.
+  EXPECT_TRUE(ExtrapolatePose(T1, v, w, -0.5).isApprox(T, 1e-12));
+  EXPECT_TRUE(
+      ExtrapolatePose(T, Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), 3.0).isApprox(T));
+  EXPECT_TRUE(ExtrapolatePose(T, v, w, 0.0).isApprox(T));
+}
+
 }  // namespace
 }  // namespace aar_geometry

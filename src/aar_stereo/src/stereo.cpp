@@ -102,6 +102,18 @@ cv::Rect ProjectedRoi(const std::vector<Eigen::Vector3d>& points, const StereoGe
   return cv::Rect(x0, y0, std::max(0, x1 - x0), std::max(0, y1 - y0)) & full;
 }
 
+std::vector<Eigen::Vector3d> BoxCorners(const Eigen::AlignedBox3d& box,
+                                        const Eigen::Isometry3d& T_optical_body, double grow) {
+  Eigen::AlignedBox3d grown = box;
+  grown.min().array() -= grow;
+  grown.max().array() += grow;
+  std::vector<Eigen::Vector3d> corners;
+  for (int c = 0; c < 8; ++c)
+    corners.push_back(T_optical_body *
+                      grown.corner(static_cast<Eigen::AlignedBox3d::CornerType>(c)));
+  return corners;
+}
+
 StereoProcessor::StereoProcessor(const StereoOptions& options) : options_(options) {
   options_.Validate();
 }

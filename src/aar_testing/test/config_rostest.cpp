@@ -31,6 +31,8 @@ TEST(Config, EveryExperimentLoadsIntoEveryNode) {
           aar_occlusion::LoadOcclusionNodeOptions(ros::NodeHandle(root, "occlusion"));
       const auto registration =
           aar_registration::LoadRegistrationNodeOptions(ros::NodeHandle(root, "registration"));
+      const auto stereo =
+          aar_stereo::LoadStereoNodeOptions(ros::NodeHandle(root, "stereo/aar_stereo"));
       // What the experiments claim in their comments.
       if (name == "dynamic") {
         EXPECT_EQ(occlusion.step.cull, aar_occlusion::CullMethod::kVolumes);
@@ -48,8 +50,11 @@ TEST(Config, EveryExperimentLoadsIntoEveryNode) {
         EXPECT_EQ(registration.registrar.reference, aar_registration::ReferenceKind::kTopic);
         EXPECT_TRUE(registration.registrar.track);
         EXPECT_EQ(registration.registrar.seed, aar_registration::SeedMode::kPrediction);
+        EXPECT_TRUE(stereo.roi.enabled);
       } else {
         EXPECT_FALSE(registration.registrar.track) << name << " is a thesis experiment";
+        EXPECT_FALSE(stereo.roi.enabled) << name << " is a thesis experiment";
+        EXPECT_FALSE(occlusion.extrapolate_estimate) << name << " is a thesis experiment";
       }
       if (name == "naive" || name == "no_boom") {
         EXPECT_EQ(occlusion.step.cull, aar_occlusion::CullMethod::kNone);

@@ -4,6 +4,7 @@
 #include <map>
 #include <mutex>
 
+#include <aar_msgs/PoseEstimate.h>
 #include <ros/ros.h>
 #include <sensor_msgs/CameraInfo.h>
 #include <sensor_msgs/Image.h>
@@ -11,6 +12,8 @@
 #include <sensor_msgs/image_encodings.h>
 #include <sensor_msgs/point_cloud2_iterator.h>
 #include <stereo_msgs/DisparityImage.h>
+#include <tf2_ros/buffer.h>
+#include <tf2_ros/transform_listener.h>
 #include "aar_testing/logged_errors.h"
 #include "aar_testing/stamped_collector.h"
 #include "aar_testing/wait.h"
@@ -198,6 +201,94 @@ TEST(BadInput, ErrorsAreNamedFramesSkippedNodeAlive) {
   ASSERT_EQ(f.points.size(), 1u) << "no cloud for a good frame after the bad ones";
   std::lock_guard<std::mutex> lock(f.points.mutex);
   EXPECT_GT(f.points.by_stamp.at(good)->width, 100u);
+}
+
+// The disparity images that came after `after`, waiting up to 60 s for `n` of them.
+std::vector<stereo_msgs::DisparityImage::ConstPtr> DisparitiesAfter(
+    Collector<stereo_msgs::DisparityImage>& c, const ros::Time& after, size_t n) {
+  std::vector<stereo_msgs::DisparityImage::ConstPtr> got;
+  const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(60.0);
+  while (ros::WallTime::now() < deadline && got.size() < n) {
+    ros::WallDuration(0.1).sleep();
+    std::lock_guard<std::mutex> lock(c.mutex);
+    got.clear();
+    for (const auto& [stamp, msg] : c.by_stamp)
+      if (stamp > after) got.push_back(msg);
+  }
+  return got;
+}
+
+double Area(const stereo_msgs::DisparityImage& d) {
+  return static_cast<double>(d.valid_window.width) * d.valid_window.height /
+         (static_cast<double>(d.image.width) * d.image.height);
+}
+
+TEST(Roi, WholeImageUntilATrackedEstimateThenAroundThePrediction) {
+  ros::NodeHandle nh;
+  Collector<stereo_msgs::DisparityImage> disparity(nh, "/stereo/disparity");
+  ros::Publisher estimates = nh.advertise<aar_msgs::PoseEstimate>("/aar/pose_estimate", 10);
+  tf2_ros::Buffer tf;
+  tf2_ros::TransformListener listener(tf);
+  aar_testing::WaitFor([&] { return estimates.getNumSubscribers() > 0; }, 30.0);
+
+  // No estimate yet: the whole image (less the disparity range on the left).
+  auto before = DisparitiesAfter(disparity, ros::Time(0), 2);
+  ASSERT_GE(before.size(), 2u);
+  const double full_area = Area(*before.back());
+  EXPECT_GT(full_area, 0.85) << "matched in a region before any estimate";
+
+  // A tracked estimate at truth: the next frames are matched around it.
+  const ros::Time at = before.back()->header.stamp;
+  ASSERT_TRUE(tf.canTransform("tanker", "receiver_truth", at, ros::Duration(5.0)));
+  const auto truth = tf.lookupTransform("tanker", "receiver_truth", at);
+  aar_msgs::PoseEstimate e;
+  e.header.stamp = at;
+  e.header.frame_id = "tanker";
+  e.valid = true;
+  e.track = aar_msgs::PoseEstimate::TRACK_ACCEPTED;
+  e.pose.position.x = truth.transform.translation.x;
+  e.pose.position.y = truth.transform.translation.y;
+  e.pose.position.z = truth.transform.translation.z;
+  e.pose.orientation = truth.transform.rotation;
+  // Unusable estimates in between are ignored: NaN, and a pose in another frame.
+  aar_msgs::PoseEstimate nan = e, elsewhere = e;
+  nan.header.stamp = elsewhere.header.stamp = at + ros::Duration(0.01);
+  nan.pose.position.x = std::nan("");
+  elsewhere.header.frame_id = "world_upside_down";
+  estimates.publish(e);
+  ros::WallDuration(0.2).sleep();
+  estimates.publish(nan);
+  estimates.publish(elsewhere);
+  auto tracked = DisparitiesAfter(disparity, at + ros::Duration(0.1), 2);
+  ASSERT_GE(tracked.size(), 2u);
+  const double roi_area = Area(*tracked.back());
+  std::printf("[ roi ] matched area: whole image %.3f, around the prediction %.3f\n", full_area,
+              roi_area);
+  EXPECT_LT(roi_area, 0.35) << "no region of interest from a tracked estimate";  // measured 0.16
+  EXPECT_GT(roi_area, 0.02);
+  // The receiver's origin projects inside it (optical frame: z forward).
+  const auto T_optical_receiver = tf.lookupTransform("stereo_left_optical", "receiver_truth", at);
+  const double z = T_optical_receiver.transform.translation.z;
+  ASSERT_GT(z, 0.0);
+  const auto& image = tracked.back()->image;
+  const double f = tracked.back()->f, cx = image.width / 2.0, cy = image.height / 2.0;
+  const double u = f * T_optical_receiver.transform.translation.x / z + cx,
+               v = f * T_optical_receiver.transform.translation.y / z + cy;
+  const auto& w = tracked.back()->valid_window;
+  EXPECT_TRUE(u > w.x_offset && u < w.x_offset + w.width && v > w.y_offset &&
+              v < w.y_offset + w.height)
+      << "receiver at (" << u << ", " << v << ") outside the region " << w.x_offset << ","
+      << w.y_offset << " " << w.width << "x" << w.height;
+
+  // The track is lost: the whole image again.
+  aar_msgs::PoseEstimate lost = e;
+  lost.header.stamp = tracked.back()->header.stamp;
+  lost.track = aar_msgs::PoseEstimate::TRACK_LOST;
+  estimates.publish(lost);
+  auto after_loss = DisparitiesAfter(disparity, lost.header.stamp + ros::Duration(0.1), 2);
+  ASSERT_GE(after_loss.size(), 2u);
+  EXPECT_GT(Area(*after_loss.back()), 0.85)
+      << "still a region of interest after the track was lost";
 }
 
 }  // namespace

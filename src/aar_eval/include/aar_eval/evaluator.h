@@ -51,8 +51,12 @@ class Evaluator {
  public:
   // `stamp_offset` [s]: the simulator's stamp = offset + path time. `expected_frames`: N in the
   // progress lines (0: unknown).
-  explicit Evaluator(double stamp_offset = 1.0, int expected_frames = 0)
-      : stamp_offset_(stamp_offset), expected_frames_(expected_frames) {}
+  // `grace_frames`: a frame is settled once this many newer ones were announced (2 in lockstep;
+  // in real time, estimates lag several frames).
+  explicit Evaluator(double stamp_offset = 1.0, int expected_frames = 0, int grace_frames = 2)
+      : stamp_offset_(stamp_offset),
+        expected_frames_(expected_frames),
+        grace_frames_(grace_frames < 1 ? 1 : grace_frames) {}
 
   enum class FrameStatus { kNew, kRepeat, kOlder };
   // A frame was announced (its camera info). kOlder frames are ignored (the clock jumped).
@@ -60,7 +64,7 @@ class Evaluator {
   // False when its frame is already settled (the estimate came too late and is ignored).
   bool AddEstimate(int64_t stamp_ns, const Estimate& estimate);
 
-  // The frames that are settled now: all but the newest two announced ones.
+  // The frames that are settled now: all but the newest `grace_frames` announced ones.
   std::vector<SettledFrame> SettleReady(const TruthLookup& truth);
   // Every frame announced so far (the run is over: what has no estimate now is a miss).
   std::vector<SettledFrame> SettleAll(const TruthLookup& truth);
@@ -76,6 +80,7 @@ class Evaluator {
 
   double stamp_offset_;
   int expected_frames_;
+  int grace_frames_;
   std::deque<int64_t> frames_;  // announced, not yet settled
   std::set<int64_t> settled_;
   std::map<int64_t, Estimate> estimates_;

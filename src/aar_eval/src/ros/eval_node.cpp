@@ -20,6 +20,8 @@ EvalNodeOptions LoadEvalNodeOptions(const ros::NodeHandle& nh) {
   nh.param("/sim/stamp_offset", sim_offset, sim_offset);
   o.stamp_offset = params.Get("stamp_offset", sim_offset);
   o.expected_frames = params.Get("expected_frames", o.expected_frames);
+  o.grace_frames = params.Get("grace_frames", o.grace_frames);
+  params.Check(o.grace_frames >= 1, "grace_frames", "must be at least 1");
   o.truth_frame = params.Get("truth_frame", o.truth_frame);
   o.tanker_frame = params.Get("tanker_frame", o.tanker_frame);
   params.RejectUnknown();
@@ -31,7 +33,7 @@ EvalNode::EvalNode(ros::NodeHandle nh, const EvalNodeOptions& options)
       options_(options),
       tf_(ros::Duration(120.0)),
       listener_(tf_),
-      evaluator_(options.stamp_offset, options.expected_frames) {
+      evaluator_(options.stamp_offset, options.expected_frames, options.grace_frames) {
   std::filesystem::create_directories(options_.output_dir);
   path_ = options_.output_dir + "/frames.csv";
   out_.open(path_);

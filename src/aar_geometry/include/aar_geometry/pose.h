@@ -34,4 +34,12 @@ Eigen::Isometry3d MakeTransform(const Eigen::Vector3d& translation, const RollPi
 Eigen::Matrix3d R_body_optical();
 Eigen::Isometry3d T_body_optical();
 
+// T_parent_body moved on by `dt` [s] at constant velocity: translation + velocity * dt and the
+// rotation turned by angular_velocity * dt about the parent's axes (velocity [m/s] and
+// angular_velocity [rad/s] both in the parent frame, as the tracking filter and
+// aar_msgs/PoseEstimate.velocity give them). dt may be negative.
+Eigen::Isometry3d ExtrapolatePose(const Eigen::Isometry3d& T_parent_body,
+                                  const Eigen::Vector3d& velocity,
+                                  const Eigen::Vector3d& angular_velocity, double dt);
+
 }  // namespace aar_geometry

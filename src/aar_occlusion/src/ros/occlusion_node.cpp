@@ -36,6 +36,7 @@ OcclusionNodeOptions LoadOcclusionNodeOptions(const ros::NodeHandle& nh) {
   o.estimate_max_age = params.Get("estimate_max_age", o.estimate_max_age);
   o.marker_length = params.Get("marker_length", o.marker_length);
   o.estimate_wait = params.Get("estimate_wait", o.estimate_wait);
+  o.extrapolate_estimate = params.Get("extrapolate_estimate", o.extrapolate_estimate);
   o.diagnostic_period = params.Get("diagnostic_period", o.diagnostic_period);
   if (!(o.diagnostic_period > 0.0)) throw std::invalid_argument("~diagnostic_period must be > 0");
   params.RejectUnknown();
@@ -77,6 +78,10 @@ OcclusionNode::OcclusionNode(ros::NodeHandle nh, ros::NodeHandle private_nh,
   // Wall time: simulated time stands still in lockstep, and the status matters most then.
   diagnostics_timer_ = nh_.createWallTimer(
       ros::WallDuration(1.0), [this](const ros::WallTimerEvent&) { diagnostics_.force_update(); });
+  if (options_.extrapolate_estimate) {
+    estimates_ = std::make_unique<aar_ros_common::EstimateListener>(nh_, "aar/pose_estimate",
+                                                                    options_.frames.tanker);
+  }
   cloud_sub_ = nh_.subscribe("points", 5, &OcclusionNode::OnCloud, this);
   ROS_INFO_STREAM("occlusion: culling " << ToString(options_.step.cull) << ", "
                                         << (step_->boom() ? step_->boom()->parts().size() : 0)
@@ -95,9 +100,17 @@ std::optional<Eigen::Isometry3d> OcclusionNode::Lookup(const std::string& frame,
                                          options_.tf_timeout, "the cloud's stamp", error);
 }
 
-// The latest estimate as the predicted pose, once the previous cloud's estimate (usually on its
-// way in lockstep) has come or estimate_wait has passed.
+// The latest estimate as the predicted pose (moved on to `stamp` with extrapolate_estimate), once
+// the previous cloud's estimate (usually on its way in lockstep) has come or estimate_wait has
+// passed.
 std::optional<Eigen::Isometry3d> OcclusionNode::PredictedPose(const ros::Time& stamp) {
+  if (estimates_) {
+    if (previous_stamp_ && options_.estimate_wait > 0.0)
+      estimates_->WaitFor(*previous_stamp_, options_.estimate_wait);
+    const auto p = estimates_->Predict(stamp, options_.estimate_max_age);
+    if (!p) return std::nullopt;
+    return p->T_tanker_receiver;
+  }
   if (previous_stamp_) {
     aar_ros_common::WaitForTransform(tf_buffer_, options_.frames.tanker, options_.frames.receiver,
                                      *previous_stamp_, options_.estimate_wait);
@@ -168,9 +181,13 @@ void OcclusionNode::OnCloud(const sensor_msgs::PointCloud2::ConstPtr& msg) {
   previous_stamp_ = msg->header.stamp;
 
   filtered_pub_.publish(filtered);
-  boom_pub_.publish(boom_points);
-  if (step_->builds_reference())
-    reference_pub_.publish(ToCloud(result.reference, reference_header));
+  // Shared pointers: nodelets in the same manager receive the message without a copy.
+  const size_t boom_count = boom_points.width;
+  boom_pub_.publish(boost::make_shared<sensor_msgs::PointCloud2>(std::move(boom_points)));
+  if (step_->builds_reference()) {
+    reference_pub_.publish(
+        boost::make_shared<sensor_msgs::PointCloud2>(ToCloud(result.reference, reference_header)));
+  }
   {
     std::lock_guard<std::mutex> report(report_mutex_);
     ++frames_;
@@ -178,7 +195,7 @@ void OcclusionNode::OnCloud(const sensor_msgs::PointCloud2::ConstPtr& msg) {
     last_frame_error_ = error;
     last_reference_error_ = reference_error;
     reference_failures_ += !reference_error.empty();
-    last_boom_points_ = boom_points.width;
+    last_boom_points_ = boom_count;
     last_reference_both_ = result.reference.both;
     last_ms_ =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <opencv2/core.hpp>
 
 namespace aar_stereo {
@@ -87,6 +88,12 @@ struct StereoResult {
 // nothing).
 cv::Rect ProjectedRoi(const std::vector<Eigen::Vector3d>& points, const StereoGeometry& geometry,
                       int margin);
+
+// The corners of `box` (a body's bounding box in its own frame [m]) grown by `grow` [m] on every
+// side and placed by T_optical_body: with ProjectedRoi, the region where a predicted receiver can
+// appear.
+std::vector<Eigen::Vector3d> BoxCorners(const Eigen::AlignedBox3d& box,
+                                        const Eigen::Isometry3d& T_optical_body, double grow);
 
 // Disparity and point cloud from a rectified mono8 pair. `roi`, when given, restricts matching to
 // a region of the left image (the rest is invalid; an empty region matches nothing).

@@ -1,7 +1,11 @@
 #include "aar_stereo/ros/stereo_node.h"
 
+#include <aar_geometry/mesh_io.h>
 #include <aar_ros_common/param_reader.h>
+#include <aar_ros_common/receiver_params.h>
+#include <aar_ros_common/tf_bridge.h>
 
+#include <ros/package.h>
 #include <sensor_msgs/PointCloud2.h>
 #include <stereo_msgs/DisparityImage.h>
 
@@ -15,6 +19,23 @@ StereoNodeOptions LoadStereoNodeOptions(const ros::NodeHandle& nh) {
   o.approximate_sync = params.Get("approximate_sync", o.approximate_sync);
   o.queue_size = params.Get("queue_size", o.queue_size);
   params.Check(o.queue_size >= 1, "queue_size", "must be at least 1");
+  StereoRoiOptions& roi = o.roi;
+  roi.enabled = params.Get("roi", roi.enabled);
+  roi.margin = params.Get("roi_margin", roi.margin);
+  params.Check(roi.margin >= 0, "roi_margin", "must be >= 0 [px]");
+  roi.receiver_margin = params.Get("roi_receiver_margin", roi.receiver_margin);
+  params.Check(roi.receiver_margin >= 0.0, "roi_receiver_margin", "must be >= 0 [m]");
+  roi.include_boom = params.Get("roi_include_boom", roi.include_boom);
+  roi.estimate_max_age = params.Get("estimate_max_age", roi.estimate_max_age);
+  params.Check(roi.estimate_max_age > 0.0, "estimate_max_age", "must be > 0 [s]");
+  roi.estimate_wait = params.Get("estimate_wait", roi.estimate_wait);
+  params.Check(roi.estimate_wait >= 0.0, "estimate_wait", "must be >= 0 [s]");
+  roi.tf_timeout = params.Get("tf_timeout", roi.tf_timeout);
+  params.Check(roi.tf_timeout >= 0.0, "tf_timeout", "must be >= 0 [s]");
+  roi.robot_description = params.Get("robot_description", roi.robot_description);
+  roi.receiver_mesh = params.Get<std::string>(
+      "receiver_mesh", ros::package::getPath("aar_description") + "/models/receiver.obj");
+  roi.frames = aar_ros_common::LoadStackFrames(params);
   // Everything else in ~ must be a reconfigurable setting (dynamic_reconfigure reads those) or
   // diagnostic_updater's period: a typo would otherwise be ignored.
   params.Allow("diagnostic_period");
@@ -63,6 +84,24 @@ StereoNode::StereoNode(ros::NodeHandle nh, ros::NodeHandle private_nh,
       options_(options),
       reconfigure_(private_nh),
       diagnostics_(nh, private_nh) {
+  if (options_.roi.enabled) {
+    const StereoRoiOptions& roi = options_.roi;
+    receiver_box_ = aar_geometry::LoadMesh(roi.receiver_mesh).Bounds();  // throws: fatal
+    if (roi.include_boom) {
+      // Searched upwards from the stereo namespace, as robot_state_publisher's is found.
+      std::string key, urdf;
+      if (!nh_.searchParam(roi.robot_description, key) || !nh_.getParam(key, urdf))
+        throw std::invalid_argument("~roi_include_boom needs the boom's URDF in parameter " +
+                                    roi.robot_description + " (searched up from " +
+                                    nh_.getNamespace() + ")");
+      boom_ = aar_geometry::ParseRobotModel(urdf, key, "");
+    }
+    tf_buffer_ = std::make_unique<tf2_ros::Buffer>();
+    tf_listener_ = std::make_unique<tf2_ros::TransformListener>(*tf_buffer_);
+    // Estimates are published outside the stereo namespace: an absolute name (remappable).
+    estimates_ = std::make_unique<aar_ros_common::EstimateListener>(nh_, "/aar/pose_estimate",
+                                                                    roi.frames.tanker);
+  }
   reconfigure_.setCallback(
       [this](StereoConfig& config, uint32_t level) { OnReconfigure(config, level); });
   if (options_.approximate_sync) {
@@ -155,12 +194,20 @@ void StereoNode::OnFrame(const Image::ConstPtr& left, const Info::ConstPtr& left
     const cv::Mat l = ToMono8(*left, "left"), r = ToMono8(*right, "right");
     std::lock_guard<std::mutex> lock(mutex_);
     if (!processor_) return;
-    const StereoResult result = processor_->Process(l, r, geometry);
+    std::string why;
+    std::optional<cv::Rect> roi;
+    try {
+      roi = Roi(left->header, geometry, &why);
+    } catch (const std::exception& e) {  // a region of interest is an optimisation: match all
+      why = e.what();
+    }
+    const StereoResult result = processor_->Process(l, r, geometry, roi);
     std_msgs::Header header = left->header;
     if (disparity_pub_.getNumSubscribers() > 0) {
       disparity_pub_.publish(
           ToDisparityMsg(result, processor_->options(), geometry, result.valid_window, header));
     }
+    // Shared pointers: nodelets in the same manager receive the message without a copy.
     if (points_pub_.getNumSubscribers() > 0)
       points_pub_.publish(ToPointCloud2Msg(result.cloud, header));
     ++frames_;
@@ -168,15 +215,21 @@ void StereoNode::OnFrame(const Image::ConstPtr& left, const Info::ConstPtr& left
       std::lock_guard<std::mutex> stats(stats_mutex_);
       last_timings_ = result.timings;
       last_points_ = result.cloud.xyz.size();
+      roi_frames_ += roi.has_value();
+      last_roi_fraction_ =
+          roi ? static_cast<double>(roi->area()) / (geometry.width * geometry.height) : 1.0;
+      last_roi_why_ = why;
     }
     ROS_DEBUG_STREAM("stereo: frame " << header.stamp << ": " << result.cloud.xyz.size()
                                       << " points; matching " << result.timings.matching_ms
                                       << " ms, reprojection " << result.timings.reprojection_ms
                                       << " ms, decimation " << result.timings.decimation_ms
                                       << " ms");
-    ROS_INFO_STREAM_THROTTLE(10.0, "stereo: " << frames_
-                                              << " frames; last: " << result.cloud.xyz.size()
-                                              << " points in " << result.timings.total_ms << " ms");
+    ROS_INFO_STREAM_THROTTLE(
+        10.0, "stereo: " << frames_ << " frames; last: " << result.cloud.xyz.size() << " points in "
+                         << result.timings.total_ms << " ms"
+                         << (roi ? ", matched in a region of interest" : "")
+                         << (why.empty() ? "" : " (whole image: " + why + ")"));
   } catch (const std::exception& e) {
     ++skipped_;
     {
@@ -187,6 +240,42 @@ void StereoNode::OnFrame(const Image::ConstPtr& left, const Info::ConstPtr& left
     if (errors_.ShouldLog(e.what()))
       ROS_ERROR_STREAM("stereo: frame " << left->header.stamp << " skipped: " << e.what());
   }
+}
+
+std::optional<cv::Rect> StereoNode::Roi(const std_msgs::Header& header,
+                                        const StereoGeometry& geometry, std::string* why) {
+  if (!options_.roi.enabled) return std::nullopt;
+  const StereoRoiOptions& o = options_.roi;
+  // In lockstep the previous frame's estimate is on its way; waiting for it makes runs repeatable.
+  if (previous_stamp_ && o.estimate_wait > 0.0 && header.stamp > *previous_stamp_)
+    estimates_->WaitFor(*previous_stamp_, o.estimate_wait);
+  previous_stamp_ = header.stamp;
+  const auto predicted = estimates_->Predict(header.stamp, o.estimate_max_age);
+  if (!predicted || !predicted->tracking) {
+    *why = "no tracked estimate within estimate_max_age";
+    return std::nullopt;
+  }
+  const auto T_tanker_optical =
+      aar_ros_common::LookupTransform(*tf_buffer_, o.frames.tanker, header.frame_id, header.stamp,
+                                      o.tf_timeout, "the images' stamp", why);
+  if (!T_tanker_optical) return std::nullopt;
+  const Eigen::Isometry3d T_optical_tanker = T_tanker_optical->inverse();
+  std::vector<Eigen::Vector3d> bounds =
+      BoxCorners(receiver_box_, T_optical_tanker * predicted->T_tanker_receiver, o.receiver_margin);
+  if (boom_) {
+    std::map<std::string, Eigen::Isometry3d> T_tanker_links;
+    for (const auto& link : boom_->links) {
+      const auto T =
+          aar_ros_common::LookupTransform(*tf_buffer_, o.frames.tanker, link.name, header.stamp,
+                                          o.tf_timeout, "the images' stamp", why);
+      if (!T) return std::nullopt;
+      T_tanker_links[link.name] = *T;
+    }
+    const auto boom =
+        aar_geometry::RobotMesh(*boom_, T_tanker_links, aar_geometry::GeometryKind::kCollision);
+    for (const auto& v : boom.vertices) bounds.push_back(T_optical_tanker * v);
+  }
+  return ProjectedRoi(bounds, geometry, o.margin);
 }
 
 void StereoNode::CheckInputs(const ros::WallTimerEvent&) {
@@ -228,6 +317,11 @@ void StereoNode::Diagnose(diagnostic_updater::DiagnosticStatusWrapper& status) {
   status.add("reprojection [ms]", last_timings_.reprojection_ms);
   status.add("decimation [ms]", last_timings_.decimation_ms);
   status.add("total [ms]", last_timings_.total_ms);
+  if (options_.roi.enabled) {
+    status.add("frames matched in a region of interest", roi_frames_);
+    status.add("matched fraction of the image (last frame)", last_roi_fraction_);
+    status.add("why the last frame was matched whole", last_roi_why_);
+  }
 }
 
 }  // namespace aar_stereo

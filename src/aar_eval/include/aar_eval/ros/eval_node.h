@@ -21,6 +21,7 @@ struct EvalNodeOptions {
   // [s] the simulator's stamp = offset + path time; default: the sim's /sim/stamp_offset, else 1.
   double stamp_offset = 1.0;
   int expected_frames = 0;  // for progress lines "frame k of N"; 0: unknown
+  int grace_frames = 2;     // newer frames announced before a frame without estimate is a miss
   std::string truth_frame = "receiver_truth";
   std::string tanker_frame = "tanker";
 };

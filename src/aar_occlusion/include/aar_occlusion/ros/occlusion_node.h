@@ -15,6 +15,8 @@
 #include <tf2_ros/transform_listener.h>
 #include <visualization_msgs/MarkerArray.h>
 
+#include <aar_ros_common/estimate_listener.h>
+
 #include "aar_occlusion/occlusion_step.h"
 
 namespace aar_occlusion {
@@ -29,6 +31,10 @@ struct OcclusionNodeOptions {
   // [s wall] how long to wait for the estimate of the previous cloud (tf tanker -> receiver at
   // its stamp): in lockstep it is on its way, and waiting makes runs repeatable.
   double estimate_wait = 0.2;
+  // Where the predicted pose comes from: false, the latest estimate as it stands (tf tanker ->
+  // receiver; the thesis); true, the latest aar/pose_estimate moved on to the cloud's stamp by
+  // its velocity (tracking), which also covers estimates that lag frames behind in real time.
+  bool extrapolate_estimate = false;
   double diagnostic_period = 1.0;  // [s wall] /diagnostics
   double marker_length = 30.0;     // [m] how far the shadow-volume markers reach past the boom
 };
@@ -58,6 +64,7 @@ class OcclusionNode {
   OcclusionNodeOptions options_;
   tf2_ros::Buffer tf_buffer_;
   tf2_ros::TransformListener tf_listener_;
+  std::unique_ptr<aar_ros_common::EstimateListener> estimates_;  // extrapolate_estimate only
   ros::Publisher filtered_pub_, boom_pub_, reference_pub_, markers_pub_;
   ros::Subscriber cloud_sub_;
   diagnostic_updater::Updater diagnostics_;

@@ -1,6 +1,9 @@
 #pragma once
 
+#include <aar_geometry/robot_model.h>
 #include <aar_ros_common/error_throttle.h>
+#include <aar_ros_common/estimate_listener.h>
+#include <aar_ros_common/frames.h>
 #include <atomic>
 #include <map>
 #include <memory>
@@ -16,14 +19,36 @@
 #include <ros/ros.h>
 #include <sensor_msgs/CameraInfo.h>
 #include <sensor_msgs/Image.h>
+#include <tf2_ros/buffer.h>
+#include <tf2_ros/transform_listener.h>
 
 #include "aar_stereo/stereo.h"
 
 namespace aar_stereo {
 
+// Matching only where the receiver can be: the projection of the predicted receiver's bounding
+// box and of the boom's collision parts (the boom's points are what the occlusion stage removes,
+// and it judges them with the receiver's), grown by a margin. The prediction is the latest
+// aar/pose_estimate of a live track moved on to the images' stamp; without one (acquisition, a
+// lost track, no estimate yet, missing tf) the whole image is matched.
+struct StereoRoiOptions {
+  bool enabled = false;
+  int margin = 16;                // [px] around the projected bounds
+  double receiver_margin = 2.0;   // [m] the receiver's bounding box grown by this: prediction error
+  bool include_boom = true;       // the boom's collision parts (needs ~robot_description and tf)
+  double estimate_max_age = 0.5;  // [s] an older estimate gives the whole image
+  // [s wall] wait for the previous frame's estimate (repeatable lockstep runs; 0 in real time).
+  double estimate_wait = 0.2;
+  double tf_timeout = 0.05;   // [s wall] for the camera's and the boom links' tf
+  std::string receiver_mesh;  // default: aar_description's models/receiver.obj
+  std::string robot_description = "robot_description";  // parameter holding the boom's URDF
+  aar_ros_common::StackFrames frames;
+};
+
 struct StereoNodeOptions {
   bool approximate_sync = false;  // pair images whose stamps differ (unsynchronised cameras)
   int queue_size = 5;             // synchroniser queue per input
+  StereoRoiOptions roi;
 };
 
 // Reads the node's own (non-reconfigurable) ~parameters and rejects unknown ~parameters; the
@@ -55,6 +80,9 @@ class StereoNode {
   void OnReconfigure(StereoConfig& config, uint32_t level);
   void CheckInputs(const ros::WallTimerEvent&);
   void Diagnose(diagnostic_updater::DiagnosticStatusWrapper& status);
+  // The region of interest for a frame, or none (whole image) with `why` saying why.
+  std::optional<cv::Rect> Roi(const std_msgs::Header& header, const StereoGeometry& geometry,
+                              std::string* why);
 
   ros::NodeHandle nh_, private_nh_;
   StereoNodeOptions options_;
@@ -85,6 +113,17 @@ class StereoNode {
   std::string last_error_;
   uint64_t reported_frames_ = 0, reported_skipped_ = 0;  // at the previous diagnostics report
   aar_ros_common::ErrorThrottle errors_;
+
+  // Region of interest (options_.roi.enabled)
+  std::unique_ptr<tf2_ros::Buffer> tf_buffer_;
+  std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
+  std::unique_ptr<aar_ros_common::EstimateListener> estimates_;
+  Eigen::AlignedBox3d receiver_box_;              // [m] receiver frame
+  std::optional<aar_geometry::RobotModel> boom_;  // none: the boom is left out of the roi
+  std::optional<ros::Time> previous_stamp_;
+  uint64_t roi_frames_ = 0;  // frames matched in a region of interest (stats_mutex_)
+  double last_roi_fraction_ = 1.0;
+  std::string last_roi_why_;  // why the last frame was matched whole
 };
 
 }  // namespace aar_stereo
