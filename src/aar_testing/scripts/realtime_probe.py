@@ -38,10 +38,12 @@ def main():
     # tcp_nodelay: no Nagle delay on small messages, which would add to the latency measured.
     rospy.Subscriber("/stereo/left/camera_info", CameraInfo, on_frame, queue_size=100,
                      tcp_nodelay=True)
-    rospy.Subscriber("/stereo/points2", rospy.AnyMsg, on_cloud("cloud"), queue_size=100,
-                     tcp_nodelay=True)
-    rospy.Subscriber("/aar/points_filtered", rospy.AnyMsg, on_cloud("filtered"), queue_size=100,
-                     tcp_nodelay=True)
+    # ~stage_times false: no cloud subscriptions, to see what listening to them costs.
+    if rospy.get_param("~stage_times", True):
+        rospy.Subscriber("/stereo/points2", rospy.AnyMsg, on_cloud("cloud"), queue_size=100,
+                         tcp_nodelay=True)
+        rospy.Subscriber("/aar/points_filtered", rospy.AnyMsg, on_cloud("filtered"),
+                         queue_size=100, tcp_nodelay=True)
     rospy.Subscriber("/aar/pose_estimate", PoseEstimate, on_estimate, queue_size=100,
                      tcp_nodelay=True)
     rospy.spin()

@@ -17,6 +17,9 @@ StereoNodeOptions LoadStereoNodeOptions(const ros::NodeHandle& nh) {
   StereoNodeOptions o;
   aar_ros_common::ParamReader params(nh);
   o.approximate_sync = params.Get("approximate_sync", o.approximate_sync);
+  o.opencv_threads = params.Get("opencv_threads", o.opencv_threads);
+  o.max_frame_age = params.Get("max_frame_age", o.max_frame_age);
+  params.Check(o.max_frame_age >= 0.0, "max_frame_age", "must be >= 0 [s] (0: off)");
   o.queue_size = params.Get("queue_size", o.queue_size);
   params.Check(o.queue_size >= 1, "queue_size", "must be at least 1");
   StereoRoiOptions& roi = o.roi;
@@ -102,6 +105,8 @@ StereoNode::StereoNode(ros::NodeHandle nh, ros::NodeHandle private_nh,
     estimates_ = std::make_unique<aar_ros_common::EstimateListener>(nh_, "/aar/pose_estimate",
                                                                     roi.frames.tanker);
   }
+  // Process-wide: in a nodelet manager it applies to every OpenCV call of every nodelet.
+  if (options_.opencv_threads >= 0) cv::setNumThreads(options_.opencv_threads);
   reconfigure_.setCallback(
       [this](StereoConfig& config, uint32_t level) { OnReconfigure(config, level); });
   if (options_.approximate_sync) {
@@ -188,6 +193,18 @@ void StereoNode::OnFrame(const Image::ConstPtr& left, const Info::ConstPtr& left
   {
     std::lock_guard<std::mutex> lock(input_mutex_);
     last_frame_ = ros::WallTime::now();
+  }
+  // Behind real time: a pair that waited too long is dropped, so that the next one is fresh.
+  if (options_.max_frame_age > 0.0) {
+    const double age = (ros::Time::now() - left->header.stamp).toSec();
+    if (age > options_.max_frame_age) {
+      ++stale_;
+      ROS_WARN_STREAM_THROTTLE(5.0, "stereo: dropping pairs that waited longer than max_frame_age ("
+                                        << options_.max_frame_age << " s; this one " << age
+                                        << " s): the graph is behind real time; " << stale_
+                                        << " dropped so far");
+      return;
+    }
   }
   try {
     const StereoGeometry geometry = ToStereoGeometry(*left_info, *right_info);
@@ -312,6 +329,7 @@ void StereoNode::Diagnose(diagnostic_updater::DiagnosticStatusWrapper& status) {
   }
   status.add("frames", static_cast<uint64_t>(frames_));
   status.add("skipped frames", static_cast<uint64_t>(skipped_));
+  status.add("frames dropped as stale (max_frame_age)", static_cast<uint64_t>(stale_));
   status.add("points (last frame)", last_points_);
   status.add("matching [ms]", last_timings_.matching_ms);
   status.add("reprojection [ms]", last_timings_.reprojection_ms);

@@ -48,6 +48,12 @@ struct StereoRoiOptions {
 struct StereoNodeOptions {
   bool approximate_sync = false;  // pair images whose stamps differ (unsynchronised cameras)
   int queue_size = 5;             // synchroniser queue per input
+  // OpenCV's worker threads (cv::setNumThreads, process-wide); -1: OpenCV's default (all cores).
+  int opencv_threads = -1;
+  // [s] a pair older than this (ROS time now minus its stamp) when its turn comes is dropped:
+  // latency stays bounded when the graph falls behind a live camera. 0: off (lockstep and slow
+  // replays never fall behind).
+  double max_frame_age = 0.0;
   StereoRoiOptions roi;
 };
 
@@ -106,7 +112,7 @@ class StereoNode {
   ros::WallTimer input_timer_;
 
   diagnostic_updater::Updater diagnostics_;
-  std::atomic<uint64_t> frames_{0}, skipped_{0};
+  std::atomic<uint64_t> frames_{0}, skipped_{0}, stale_{0};
   std::mutex stats_mutex_;
   StereoTimings last_timings_;
   size_t last_points_ = 0;
