@@ -6,10 +6,11 @@
 
 namespace aar_testing {
 
-LoggedErrors::LoggedErrors(ros::NodeHandle& nh, const std::string& node) {
+LoggedErrors::LoggedErrors(ros::NodeHandle& nh, const std::string& node, uint8_t min_level) {
+  static_assert(rosgraph_msgs::Log::ERROR == 8, "the header's default level is ERROR");
   sub_ = nh.subscribe<rosgraph_msgs::Log>(
-      "/rosout", 100, [this, node](const rosgraph_msgs::Log::ConstPtr& m) {
-        if (m->level < rosgraph_msgs::Log::ERROR || m->name != node) return;
+      "/rosout", 100, [this, node, min_level](const rosgraph_msgs::Log::ConstPtr& m) {
+        if (m->level < min_level || m->name != node) return;
         std::lock_guard<std::mutex> lock(mutex_);
         errors_.push_back(m->msg);
       });

@@ -6,6 +6,7 @@
 
 #include <aar_msgs/PoseEstimate.h>
 #include <ros/ros.h>
+#include <rosgraph_msgs/Log.h>
 #include <sensor_msgs/CameraInfo.h>
 #include <sensor_msgs/Image.h>
 #include <sensor_msgs/PointCloud2.h>
@@ -135,13 +136,17 @@ Pair GoodPair(const ros::Time& stamp) {
 }
 
 struct BadInputFixture {
+  explicit BadInputFixture(const std::string& ns = "/bad", uint8_t min_level = 8)
+      : left(nh.advertise<sensor_msgs::Image>(ns + "/left/image_rect", 5)),
+        right(nh.advertise<sensor_msgs::Image>(ns + "/right/image_rect", 5)),
+        left_info(nh.advertise<sensor_msgs::CameraInfo>(ns + "/left/camera_info", 5)),
+        right_info(nh.advertise<sensor_msgs::CameraInfo>(ns + "/right/camera_info", 5)),
+        points(nh, ns + "/points2"),
+        errors(nh, ns + "/aar_stereo", min_level) {}
   ros::NodeHandle nh;
-  ros::Publisher left = nh.advertise<sensor_msgs::Image>("/bad/left/image_rect", 5);
-  ros::Publisher right = nh.advertise<sensor_msgs::Image>("/bad/right/image_rect", 5);
-  ros::Publisher left_info = nh.advertise<sensor_msgs::CameraInfo>("/bad/left/camera_info", 5);
-  ros::Publisher right_info = nh.advertise<sensor_msgs::CameraInfo>("/bad/right/camera_info", 5);
-  Collector<sensor_msgs::PointCloud2> points{nh, "/bad/points2"};
-  aar_testing::LoggedErrors errors{nh, "/bad/aar_stereo"};
+  ros::Publisher left, right, left_info, right_info;
+  Collector<sensor_msgs::PointCloud2> points;
+  aar_testing::LoggedErrors errors;
 
   void Publish(const Pair& p) {
     left.publish(p.left);
@@ -201,6 +206,27 @@ TEST(BadInput, ErrorsAreNamedFramesSkippedNodeAlive) {
   ASSERT_EQ(f.points.size(), 1u) << "no cloud for a good frame after the bad ones";
   std::lock_guard<std::mutex> lock(f.points.mutex);
   EXPECT_GT(f.points.by_stamp.at(good)->width, 100u);
+}
+
+TEST(BadInput, PairsThatWaitedTooLongAreDroppedNotProcessedLate) {
+  // A node with max_frame_age 0.5 s (stereo_bad_input.test, namespace /late), on wall time.
+  BadInputFixture f("/late", rosgraph_msgs::Log::WARN);
+  auto connected = [&f] {
+    return f.left.getNumSubscribers() > 0 && f.right_info.getNumSubscribers() > 0 &&
+           f.errors.Connected();
+  };
+  aar_testing::WaitFor(connected, 20.0);
+  ASSERT_TRUE(connected()) << "aar_stereo never subscribed";
+  ros::WallDuration(0.5).sleep();
+  const ros::Time late = ros::Time::now() - ros::Duration(2.0);
+  f.Publish(GoodPair(late));
+  EXPECT_TRUE(f.ErrorLogged("waited longer than max_frame_age", 5.0));
+  const ros::Time fresh = ros::Time::now();
+  f.Publish(GoodPair(fresh));
+  aar_testing::WaitFor([&] { return f.points.size() > 0; }, 5.0);
+  std::lock_guard<std::mutex> lock(f.points.mutex);
+  EXPECT_EQ(f.points.by_stamp.count(late), 0u) << "a pair 2 s late was processed";
+  EXPECT_EQ(f.points.by_stamp.count(fresh), 1u) << "a fresh pair after a late one gave no cloud";
 }
 
 // The disparity images that came after `after`, waiting up to 60 s for `n` of them.

@@ -8,12 +8,12 @@
 
 namespace aar_testing {
 
-// For rostests: the ERROR and FATAL messages that one node logs to /rosout (needs a spinner
-// running), so a test can check that bad input is named.
+// For rostests: the ERROR and FATAL messages (or from `min_level` up, e.g. WARN) that one node
+// logs to /rosout (needs a spinner running), so a test can check that bad input is named.
 class LoggedErrors {
  public:
   // `node`: the logger's full name, e.g. "/registration".
-  LoggedErrors(ros::NodeHandle& nh, const std::string& node);
+  LoggedErrors(ros::NodeHandle& nh, const std::string& node, uint8_t min_level = 8);  // 8: ERROR
 
   // True once an error containing `text` was logged, within `timeout_s` [s wall].
   bool Wait(const std::string& text, double timeout_s);
