@@ -196,16 +196,17 @@ int CheckRaysAndVolumesAgree(bool cull_behind_boom) {
     if (i < on_boom) on_boom_culled += volumes[i];
   }
   std::printf(
-      "[ cull ] behind the boom %s: %d of %zu points culled; BVH differs on %d, volumes on "
-      "%d\n",
-      cull_behind_boom ? "too" : "not", culled, points.size(), differ_bvh, differ_volumes);
+      "[ cull ] behind the boom %s: %d of %zu points culled (%d of %zu on the visual boom); BVH "
+      "differs on %d, volumes on %d\n",
+      cull_behind_boom ? "too" : "not", culled, points.size(), on_boom_culled, on_boom, differ_bvh,
+      differ_volumes);
   // The visual boom lies inside the grown collision parts, bar a few samples of detail.
-  EXPECT_GE(on_boom_culled, static_cast<int>(0.995 * on_boom));
-  EXPECT_GT(culled, static_cast<int>(on_boom) + 500);  // and the cones reach past it
+  EXPECT_GE(on_boom_culled, static_cast<int>(0.999 * on_boom));  // measured: 3000 of 3000
+  EXPECT_GT(culled, static_cast<int>(on_boom) + 500);            // and the cones reach past it
   EXPECT_LT(culled, static_cast<int>(points.size()) / 2);
-  // Float rays (Embree) and grazing rays may differ on a handful of points.
-  EXPECT_LE(differ_bvh, 5);
-  EXPECT_LE(differ_volumes, 5);
+  // Float rays (Embree) and grazing rays could differ on a point; measured: 0 and 0.
+  EXPECT_LE(differ_bvh, 1);
+  EXPECT_LE(differ_volumes, 1);
 
   EXPECT_EQ(s.boom->Cull(points, CullMethod::kNone), std::vector<bool>(points.size(), false));
   return culled;

@@ -81,7 +81,7 @@ void CheckAgainstRayCast(const aar_description::BoomPose& boom_pose,
       boom_pose.pitch * 180 / M_PI, boom_pose.roll * 180 / M_PI, boom_pose.extension,
       T_tanker_receiver.translation().norm(), agree, compared, 100.0 * agree / compared, hidden);
   EXPECT_GE(compared, 20000);
-  EXPECT_GE(static_cast<double>(agree) / compared, 0.995);
+  EXPECT_GE(agree + 2, compared);  // measured: 100.000 % in all four cases
   EXPECT_GE(static_cast<double>(hidden) / compared,
             min_hidden_fraction);  // the boom really occludes
 }

@@ -74,9 +74,9 @@ TEST(CullingOracle, RemovesBoomPointsAndKeepsReceiverPoints) {
         c.receiver, 100.0 * c.receiver_culled / c.receiver);
     EXPECT_GT(c.boom, 5000);
     EXPECT_GT(c.receiver, 20000);
-    EXPECT_GE(c.boom_culled, 0.99 * c.boom);
+    EXPECT_GE(c.boom_culled, 0.9995 * c.boom);  // measured: 13426 of 13426, every method
     // The thesis's whole ray also takes the receiver seen within the margin's shadow.
-    if (m < 2) EXPECT_LE(c.receiver_culled, 0.01 * c.receiver);
+    if (m < 2) EXPECT_LE(c.receiver_culled, 0.0095 * c.receiver);  // measured: 0.86 %
   }
 }
 

@@ -220,7 +220,7 @@ TEST(Occlusion, CullsTheBoomAndBuildsTheReference) {
               boom_total, boom_removed, receiver_total, receiver_removed);
   EXPECT_EQ(kept.size() + removed.size(), scene.points.size());  // a partition, fields kept
   EXPECT_GT(boom_total, 500u);
-  EXPECT_GE(boom_removed, 0.995 * boom_total);
+  EXPECT_GE(boom_removed + 1, boom_total);  // measured: 676 of 676
   // Exact surface points, no stereo: what goes is receiver seen within 2 cm of the boom's outline
   // or 10 cm of it in depth, and past corners of the collision boxes that stand clear of the
   // visual boom (1.5 % here; 0.84 % on rendered frames, culling_oracle_test).
