@@ -13,4 +13,8 @@ namespace aar_ros_common {
 // ~visibility_tolerance, each over `sampling`'s value. Returns the mesh path.
 std::string LoadReceiverModel(ParamReader& params, aar_geometry::ReferenceModelOptions& sampling);
 
+// ~receiver_mesh alone (default: aar_description's models/receiver.obj), for nodes that need the
+// model's shape but do not sample it.
+std::string LoadReceiverMesh(ParamReader& params);
+
 }  // namespace aar_ros_common

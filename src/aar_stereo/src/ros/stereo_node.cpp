@@ -5,7 +5,6 @@
 #include <aar_ros_common/receiver_params.h>
 #include <aar_ros_common/tf_bridge.h>
 
-#include <ros/package.h>
 #include <sensor_msgs/PointCloud2.h>
 #include <stereo_msgs/DisparityImage.h>
 
@@ -36,8 +35,7 @@ StereoNodeOptions LoadStereoNodeOptions(const ros::NodeHandle& nh) {
   roi.tf_timeout = params.Get("tf_timeout", roi.tf_timeout);
   params.Check(roi.tf_timeout >= 0.0, "tf_timeout", "must be >= 0 [s]");
   roi.robot_description = params.Get("robot_description", roi.robot_description);
-  roi.receiver_mesh = params.Get<std::string>(
-      "receiver_mesh", ros::package::getPath("aar_description") + "/models/receiver.obj");
+  roi.receiver_mesh = aar_ros_common::LoadReceiverMesh(params);
   roi.frames = aar_ros_common::LoadStackFrames(params);
   // Everything else in ~ must be a reconfigurable setting (dynamic_reconfigure reads those) or
   // diagnostic_updater's period: a typo would otherwise be ignored.
