@@ -35,6 +35,18 @@ double Nees(const Eigen::Isometry3d& truth, const Estimate& e) {
   return d.dot(ldlt.solve(d));
 }
 
+// FrameRecord::error of `estimate` against `truth`.
+std::array<double, 6> ErrorComponents(const Eigen::Isometry3d& truth,
+                                      const Eigen::Isometry3d& estimate) {
+  const aar_geometry::PoseError e = aar_geometry::ComputePoseError(truth, estimate);
+  return {e.position_m.x(),
+          e.position_m.y(),
+          e.position_m.z(),
+          aar_geometry::RadToDeg(e.orientation_rad.roll),
+          aar_geometry::RadToDeg(e.orientation_rad.pitch),
+          aar_geometry::RadToDeg(e.orientation_rad.yaw)};
+}
+
 }  // namespace
 
 Evaluator::FrameStatus Evaluator::AddFrame(int64_t stamp_ns) {
@@ -84,15 +96,9 @@ std::vector<SettledFrame> Evaluator::Settle(int64_t before_ns, const TruthLookup
     if (it != estimates_.end()) {
       const Estimate& est = it->second;
       if (est.valid) {  // else no pose: a miss
-        const aar_geometry::PoseError e =
-            aar_geometry::ComputePoseError(*T_truth, est.T_tanker_receiver);
         f.estimated = true;
-        f.error = {e.position_m.x(),
-                   e.position_m.y(),
-                   e.position_m.z(),
-                   aar_geometry::RadToDeg(e.orientation_rad.roll),
-                   aar_geometry::RadToDeg(e.orientation_rad.pitch),
-                   aar_geometry::RadToDeg(e.orientation_rad.yaw)};
+        f.error = ErrorComponents(*T_truth, est.T_tanker_receiver);
+        last_estimate_ = est.T_tanker_receiver;
         f.converged = est.converged;
         f.iterations = est.iterations;
         f.rms = est.rms;
@@ -104,6 +110,12 @@ std::vector<SettledFrame> Evaluator::Settle(int64_t before_ns, const TruthLookup
       f.track = est.track;
       estimates_.erase(it);
     }
+    // A live system holds the last estimate through a miss.
+    f.published = last_estimate_.has_value();
+    if (f.estimated)
+      f.published_error = f.error;
+    else if (f.published)
+      f.published_error = ErrorComponents(*T_truth, *last_estimate_);
     records_.push_back(f);
     if (records_.size() % 10 == 1 || !f.estimated) s.progress = ProgressLine(f);
     out.push_back(s);

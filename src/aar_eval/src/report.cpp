@@ -17,7 +17,6 @@ ReportResult WriteReport(const ReportOptions& options) {
   const std::string& baseline = options.baseline;
   ReportResult result;
   result.path = dir + "/report.md";
-  std::map<std::string, std::map<std::string, RegionStats>> stats;
   std::map<std::string, std::vector<FrameRecord>> records;
   std::vector<std::string> done;
   for (const auto& e : options.experiments) {
@@ -27,14 +26,20 @@ ReportResult WriteReport(const ReportOptions& options) {
       continue;
     }
     records[e] = ReadFrameCsv(csv);
-    stats[e] = ComputeRegionStats(records[e]);
     done.push_back(e);
   }
   if (done.empty()) throw std::runtime_error("no experiment has results in " + dir);
-  const bool has_baseline = !baseline.empty() && stats.count(baseline);
+  const bool has_baseline = !baseline.empty() && records.count(baseline);
   if (has_baseline) {  // the baseline's rows come first, the % differences against it after
     done.erase(std::find(done.begin(), done.end(), baseline));
     done.insert(done.begin(), baseline);
+  }
+  std::map<std::string, std::map<std::string, RegionStats>> stats;
+  bool any_miss = false;
+  for (const auto& e : done) {
+    stats[e] = ComputeRegionStats(records[e]);
+    if (stats[e].count("all") && stats[e].at("all").estimated < stats[e].at("all").frames)
+      any_miss = true;
   }
 
   std::ofstream out(result.path);
@@ -42,56 +47,85 @@ ReportResult WriteReport(const ReportOptions& options) {
   std::ifstream run(dir + "/run.txt");
   if (run && run.peek() != std::ifstream::traits_type::eof())
     out << "## Run\n\n```\n" << run.rdbuf() << "```\n\n";
-  out << "Errors are estimate minus truth in the true receiver body frame (x, y, z in metres) "
-         "and "
-         "roll, pitch, yaw of R_truth^T R_estimate (degrees). Averages and RMS are over the "
-         "frames "
-         "with an estimate; \"frames (estimated)\" counts both. % difference = (baseline - "
-         "value) / "
-         "baseline x 100: positive is better.\n\n";
+  out << "Errors are estimate minus truth in the true receiver body frame (x, y, z in metres) and "
+         "roll, pitch, yaw of R_truth^T R_estimate (degrees). An experiment's rows average over "
+         "the frames it estimated; \"frames (estimated)\" counts both. Each % difference row "
+         "compares the experiment with the baseline on the same frames, those both estimated, "
+         "and counts them: (baseline - value) / baseline x 100, positive is better.\n\n";
+
+  out << "## Coverage\n\nFrames with an estimate of this frame, of all frames, per region.\n\n"
+      << "| experiment | region A | region B | region C | whole approach |\n"
+      << "|---|---:|---:|---:|---:|\n";
+  for (const auto& e : done) {
+    out << "| " << e << " |";
+    for (const char* key : {"A", "B", "C", "all"}) {
+      const auto it = stats[e].find(key);
+      if (it == stats[e].end())
+        out << " - |";
+      else
+        out << ' ' << it->second.estimated << " / " << it->second.frames << " |";
+    }
+    out << "\n";
+  }
+  out << "\n";
+  if (any_miss) {
+    out << "Miss policy: a frame without an estimate of its own is a miss. It is in no average "
+           "of the tables below; the section \"As published\" scores instead what a live "
+           "system publishes, the last estimate held through each miss.\n\n";
+  }
+
   if (has_baseline) {
-    out << "## Headline\n\n";
+    out << "## Headline\n\nThe thesis's statistic: the mean over the six components, whole "
+           "approach, of the % difference of the average error magnitude against "
+        << baseline << ", on the frames both estimated.\n\n";
     for (const auto& e : done) {
-      if (e == baseline || !stats[e].count("all") || !stats[baseline].count("all")) continue;
-      const RegionStats& a = stats[e].at("all");
-      const RegionStats& b = stats[baseline].at("all");
-      out << "- " << e << ": average improvement over " << baseline << ": " << std::fixed
-          << std::setprecision(1) << AverageImprovement(a, b) << "%"
-          << (e == "dynamic" ? " (thesis: 74.1%)" : "");
-      // Frames by index at 1 ms: path times come from a CSV.
-      auto key = [](double t) { return std::llround(t * 1000.0); };
-      std::map<long long, const FrameRecord*> theirs;
-      for (const auto& f : records[baseline]) {
-        if (f.estimated) theirs[key(f.t)] = &f;
+      if (e == baseline) continue;
+      const auto common = CommonFrames(records[e], records[baseline]);
+      const auto mine = ComputeRegionStats(common.first);
+      const auto theirs = ComputeRegionStats(common.second);
+      out << "- " << e << ": average improvement over " << baseline << ": ";
+      if (!mine.count("all") || mine.at("all").estimated == 0) {
+        out << "no frame both estimated\n";
+        continue;
       }
-      std::vector<FrameRecord> mine_common, theirs_common;
-      for (const auto& f : records[e]) {
-        const auto it = theirs.find(key(f.t));
-        if (!f.estimated || it == theirs.end()) continue;
-        mine_common.push_back(f);
-        theirs_common.push_back(*it->second);
-      }
-      const bool same_frames = mine_common.size() == static_cast<size_t>(a.estimated) &&
-                               mine_common.size() == static_cast<size_t>(b.estimated);
-      if (!same_frames) {  // averages over different frames: say so, and compare the common ones
-        out << "; over different frames: " << e << " estimated " << a.estimated << " of "
-            << a.frames << ", " << baseline << " " << b.estimated << " of " << b.frames
-            << " (the rest are misses, in no average)";
-        const auto m = ComputeRegionStats(mine_common);
-        const auto t = ComputeRegionStats(theirs_common);
-        if (m.count("all") && t.count("all")) {
-          out << "; on the " << mine_common.size()
-              << " frames both estimated: " << AverageImprovement(m.at("all"), t.at("all")) << "%";
+      const int n = mine.at("all").estimated;
+      const int frames = stats[e].count("all") ? stats[e].at("all").frames : 0;
+      out << std::fixed << std::setprecision(1)
+          << AverageImprovement(mine.at("all"), theirs.at("all")) << "%";
+      const int e_estimated = stats[e].at("all").estimated;
+      const int b_estimated =
+          stats[baseline].count("all") ? stats[baseline].at("all").estimated : 0;
+      if (n == frames && e_estimated == frames && b_estimated == frames)
+        out << " on every frame (" << n << ")";
+      else
+        out << " on the " << n << " frames both estimated (" << e << " estimated " << e_estimated
+            << " of " << frames << ", " << baseline << " " << b_estimated << ")";
+      if (e == "dynamic") out << " (thesis: 74.1%, on every frame)";
+      if (n != frames) {
+        const auto held = CommonFrames(records[e], records[baseline], ErrorPolicy::kHoldLast);
+        const auto hm = ComputeRegionStats(held.first, ErrorPolicy::kHoldLast);
+        const auto hb = ComputeRegionStats(held.second, ErrorPolicy::kHoldLast);
+        if (hm.count("all") && hm.at("all").estimated > 0) {
+          out << "; as published (the last estimate held through misses): "
+              << AverageImprovement(hm.at("all"), hb.at("all")) << "% on " << hm.at("all").estimated
+              << " frames";
         }
       }
       out << "\n";
     }
     out << "\n";
   }
-  out << "## Average error magnitude\n\n"
-      << MarkdownRegionTable(stats, done, has_baseline ? baseline : "", false);
-  out << "\n## RMS error\n\n"
-      << MarkdownRegionTable(stats, done, has_baseline ? baseline : "", true);
+  const std::string b = has_baseline ? baseline : "";
+  out << "## Average error magnitude\n\n" << MarkdownRegionTable(records, done, b, false);
+  out << "\n## RMS error\n\n" << MarkdownRegionTable(records, done, b, true);
+  if (any_miss) {
+    out << "\n## As published: the last estimate held through misses\n\nAverage error "
+           "magnitude of what a live system publishes on each frame: its estimate, or on a miss "
+           "the last estimate again, against this frame's truth. Frames before the first "
+           "estimate have nothing published and are left out; \"frames (published)\" counts "
+           "both.\n\n"
+        << MarkdownRegionTable(records, done, b, false, ErrorPolicy::kHoldLast);
+  }
   out << "\nWhat these numbers mean for the default approach, and why: docs/RESULTS.md.\n";
   out << "\n## Error against range\n\n";
   for (const auto& e : done) {

@@ -4,6 +4,7 @@
 #include <fstream>
 #include <iomanip>
 #include <limits>
+#include <map>
 #include <sstream>
 
 #include <aar_geometry/load_error.h>
@@ -16,7 +17,20 @@ const std::array<std::string, 6>& ComponentNames() {
   return names;
 }
 
-std::map<std::string, RegionStats> ComputeRegionStats(const std::vector<FrameRecord>& frames) {
+namespace {
+
+bool HasError(const FrameRecord& f, ErrorPolicy policy) {
+  return policy == ErrorPolicy::kEstimated ? f.estimated : f.published;
+}
+
+const std::array<double, 6>& ErrorOf(const FrameRecord& f, ErrorPolicy policy) {
+  return policy == ErrorPolicy::kEstimated ? f.error : f.published_error;
+}
+
+}  // namespace
+
+std::map<std::string, RegionStats> ComputeRegionStats(const std::vector<FrameRecord>& frames,
+                                                      ErrorPolicy policy) {
   std::map<std::string, RegionStats> stats;
   std::map<std::string, std::array<double, 6>> sum_sq;
   for (const auto& f : frames) {
@@ -24,11 +38,12 @@ std::map<std::string, RegionStats> ComputeRegionStats(const std::vector<FrameRec
     for (const std::string& key : {aar_geometry::RegionName(f.region), std::string("all")}) {
       RegionStats& s = stats[key];
       ++s.frames;
-      if (!f.estimated) continue;
+      if (!HasError(f, policy)) continue;
       ++s.estimated;
+      const auto& error = ErrorOf(f, policy);
       for (int c = 0; c < 6; ++c) {
-        s.mean_abs[c] += std::abs(f.error[c]);
-        sum_sq[key][c] += f.error[c] * f.error[c];
+        s.mean_abs[c] += std::abs(error[c]);
+        sum_sq[key][c] += error[c] * error[c];
       }
     }
   }
@@ -43,6 +58,23 @@ std::map<std::string, RegionStats> ComputeRegionStats(const std::vector<FrameRec
     }
   }
   return stats;
+}
+
+std::pair<std::vector<FrameRecord>, std::vector<FrameRecord>> CommonFrames(
+    const std::vector<FrameRecord>& a, const std::vector<FrameRecord>& b, ErrorPolicy policy) {
+  auto key = [](double t) { return std::llround(t * 1000.0); };  // path times come from a CSV
+  std::map<long long, const FrameRecord*> in_b;
+  for (const auto& f : b) {
+    if (HasError(f, policy)) in_b[key(f.t)] = &f;
+  }
+  std::pair<std::vector<FrameRecord>, std::vector<FrameRecord>> common;
+  for (const auto& f : a) {
+    const auto it = in_b.find(key(f.t));
+    if (!HasError(f, policy) || it == in_b.end()) continue;
+    common.first.push_back(f);
+    common.second.push_back(*it->second);
+  }
+  return common;
 }
 
 double PercentDifference(double value, double baseline) {
@@ -61,9 +93,16 @@ namespace {
 const char* const kHeaderBeforeTracking =
     "t,range_m,region,estimated,x_m,y_m,z_m,roll_deg,pitch_deg,yaw_deg,converged,iterations,"
     "rms_m,registration_ms";
+
+// Before the miss policy (issue 13) they ended at nees.
+const std::string kHeaderBeforeHold = std::string(kHeaderBeforeTracking) + ",track,nees";
 }  // namespace
 
-std::string FrameCsvHeader() { return std::string(kHeaderBeforeTracking) + ",track,nees"; }
+std::string FrameCsvHeader() {
+  return kHeaderBeforeHold +
+         ",published,published_x_m,published_y_m,published_z_m,published_roll_deg,"
+         "published_pitch_deg,published_yaw_deg";
+}
 
 std::string FrameCsvRow(const FrameRecord& f) {
   std::ostringstream s;
@@ -72,7 +111,10 @@ std::string FrameCsvRow(const FrameRecord& f) {
   for (double e : f.error) s << ',' << (f.estimated ? e : std::numeric_limits<double>::quiet_NaN());
   s << ',' << (f.converged ? 1 : 0) << ',' << f.iterations << ',' << f.rms << ','
     << f.registration_ms << ',' << f.track << ','
-    << (f.estimated ? f.nees : std::numeric_limits<double>::quiet_NaN());
+    << (f.estimated ? f.nees : std::numeric_limits<double>::quiet_NaN()) << ','
+    << (f.published ? 1 : 0);
+  for (double e : f.published_error)
+    s << ',' << (f.published ? e : std::numeric_limits<double>::quiet_NaN());
   return s.str();
 }
 
@@ -90,9 +132,10 @@ std::vector<FrameRecord> ReadFrameCsv(const std::string& path) {
   std::string line;
   std::getline(in, line);
   const bool before_tracking = line == kHeaderBeforeTracking;
-  if (line != FrameCsvHeader() && !before_tracking)
+  const bool before_hold = line == kHeaderBeforeHold;
+  if (line != FrameCsvHeader() && !before_tracking && !before_hold)
     throw aar_geometry::LoadError(path, "line 1: not a frame CSV header");
-  const size_t columns = before_tracking ? 14 : 16;
+  const size_t columns = before_tracking ? 14 : before_hold ? 16 : 23;
   std::vector<FrameRecord> frames;
   int number = 1;
   while (std::getline(in, line)) {
@@ -134,46 +177,74 @@ std::vector<FrameRecord> ReadFrameCsv(const std::string& path) {
       f.track = cells[14];
       f.nees = cells[15] == "nan" ? std::numeric_limits<double>::quiet_NaN() : number_at(15);
     }
+    if (columns == 23) {
+      f.published = number_at(16) != 0.0;
+      for (int c = 0; c < 6; ++c) f.published_error[c] = f.published ? number_at(17 + c) : 0.0;
+      if (f.estimated && !f.published)
+        throw aar_geometry::LoadError(path, where + "estimated but not published");
+    } else {  // no record of held estimates: only the frame's own
+      f.published = f.estimated;
+      f.published_error = f.error;
+    }
     frames.push_back(f);
   }
   return frames;
 }
 
-std::string MarkdownRegionTable(
-    const std::map<std::string, std::map<std::string, RegionStats>>& by_experiment,
-    const std::vector<std::string>& order, const std::string& baseline, bool rms) {
+std::string MarkdownRegionTable(const std::map<std::string, std::vector<FrameRecord>>& records,
+                                const std::vector<std::string>& order, const std::string& baseline,
+                                bool rms, ErrorPolicy policy) {
   static const std::vector<std::pair<std::string, std::string>> regions = {
       {"A", "Region A (175-70 m)"},
       {"B", "Region B (70-38 m)"},
       {"C", "Region C (38-32 m)"},
       {"all", "Whole approach"}};
+  const char* counted = policy == ErrorPolicy::kEstimated ? "estimated" : "published";
+  std::map<std::string, std::map<std::string, RegionStats>> stats;
+  // Per experiment: its stats and the baseline's on the frames both have an error on.
+  std::map<std::string,
+           std::pair<std::map<std::string, RegionStats>, std::map<std::string, RegionStats>>>
+      paired;
+  const bool compare = !baseline.empty() && records.count(baseline);
+  for (const auto& name : order) {
+    stats[name] = ComputeRegionStats(records.at(name), policy);
+    if (!compare || name == baseline) continue;
+    const auto common = CommonFrames(records.at(name), records.at(baseline), policy);
+    paired[name] = {ComputeRegionStats(common.first, policy),
+                    ComputeRegionStats(common.second, policy)};
+  }
   std::ostringstream s;
   s << std::fixed;
-  s << "| region | experiment | frames (estimated) |";
+  s << "| region | experiment | frames (" << counted << ") |";
   for (const auto& c : ComponentNames()) s << ' ' << c << " |";
   s << "\n|---|---|---:|---:|---:|---:|---:|---:|---:|\n";
   for (const auto& [key, title] : regions) {
     for (const auto& name : order) {
-      const auto& stats = by_experiment.at(name);
-      const auto it = stats.find(key);
-      if (it == stats.end()) continue;
+      const auto it = stats[name].find(key);
+      if (it == stats[name].end()) continue;
       const RegionStats& r = it->second;
       s << "| " << title << " | " << name << (rms ? " RMS" : " average error magnitude") << " | "
         << r.frames << " (" << r.estimated << ") |";
       for (int c = 0; c < 6; ++c)
         s << ' ' << std::setprecision(3) << (rms ? r.rms[c] : r.mean_abs[c]) << " |";
       s << "\n";
-      if (!baseline.empty() && name != baseline && by_experiment.count(baseline) &&
-          by_experiment.at(baseline).count(key)) {
-        const RegionStats& b = by_experiment.at(baseline).at(key);
-        s << "| " << title << " | % difference, " << name << " against " << baseline << " | |";
-        for (int c = 0; c < 6; ++c) {
-          s << ' ' << std::setprecision(2)
-            << PercentDifference(rms ? r.rms[c] : r.mean_abs[c], rms ? b.rms[c] : b.mean_abs[c])
-            << " |";
-        }
-        s << "\n";
+      if (!paired.count(name)) continue;
+      const auto mine = paired[name].first.find(key);
+      s << "| " << title << " | % difference, " << name << " against " << baseline
+        << ", same frames | ";
+      if (mine == paired[name].first.end() || mine->second.estimated == 0) {
+        s << "0 | no frame both " << counted << " |||||\n";
+        continue;
       }
+      const RegionStats& m = mine->second;
+      const RegionStats& b = paired[name].second.at(key);
+      s << m.estimated << " |";
+      for (int c = 0; c < 6; ++c) {
+        s << ' ' << std::setprecision(2)
+          << PercentDifference(rms ? m.rms[c] : m.mean_abs[c], rms ? b.rms[c] : b.mean_abs[c])
+          << " |";
+      }
+      s << "\n";
     }
   }
   return s.str();

@@ -91,10 +91,40 @@ TEST(Evaluator, SettlesAllButTheNewestTwoFramesAndRecordsMisses) {
   EXPECT_FALSE(rest[0].record.estimated);
   EXPECT_NE(rest[0].progress.find("MISSED"), std::string::npos) << rest[0].progress;
   EXPECT_FALSE(rest[1].record.estimated);
+  // The misses publish the last estimate again: its error against their truth.
+  EXPECT_TRUE(first[0].record.published);
+  for (int k : {0, 1}) {
+    EXPECT_TRUE(rest[k].record.published);
+    EXPECT_NEAR(rest[k].record.published_error[0], 0.1, 1e-9);
+  }
   EXPECT_EQ(rest[3].no_truth, "extrapolation into the future");
   EXPECT_EQ(eval.records().size(), 4u);  // 2, 3, 4, 5: frame 6 had no truth
   EXPECT_EQ(eval.frames_without_truth(), 1);
   EXPECT_EQ(eval.estimates_without_frame(), 1u);
+}
+
+// Before the first estimate nothing is published; a held estimate is scored against the truth
+// of the frame it is held into.
+TEST(Evaluator, MissesBeforeTheFirstEstimatePublishNothing) {
+  Evaluator eval(1.0, 3);
+  eval.AddFrame(2 * kSecond);
+  eval.AddEstimate(2 * kSecond, At(0.0, false));
+  eval.AddFrame(3 * kSecond);
+  eval.AddEstimate(3 * kSecond, At(-34.0));
+  eval.AddFrame(4 * kSecond);
+  auto truth = [](int64_t stamp_ns, std::string*) -> std::optional<Eigen::Isometry3d> {
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();  // 1 m/s closer each second
+    T.translation() = Eigen::Vector3d(-40.0 + static_cast<double>(stamp_ns / kSecond), 0, -10);
+    return T;
+  };
+  const auto settled = eval.SettleAll(truth);
+  ASSERT_EQ(settled.size(), 3u);
+  EXPECT_FALSE(settled[0].record.published);
+  EXPECT_TRUE(settled[1].record.estimated);
+  EXPECT_NEAR(settled[1].record.published_error[0], 3.0, 1e-9);  // -34 against -37
+  EXPECT_FALSE(settled[2].record.estimated);
+  EXPECT_TRUE(settled[2].record.published);
+  EXPECT_NEAR(settled[2].record.published_error[0], 2.0, 1e-9);  // -34 held against -36
 }
 
 }  // namespace

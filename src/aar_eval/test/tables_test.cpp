@@ -59,17 +59,62 @@ TEST(Tables, PercentDifferenceAndHeadline) {
 }
 
 TEST(Tables, MarkdownLayout) {
-  const auto stats = ComputeRegionStats(ReadFrameCsv(Write("hand2.csv", kCsv)));
-  std::map<std::string, std::map<std::string, RegionStats>> by = {{"naive", stats},
-                                                                  {"dynamic", stats}};
+  const auto frames = ReadFrameCsv(Write("hand2.csv", kCsv));
+  const std::map<std::string, std::vector<FrameRecord>> by = {{"naive", frames},
+                                                              {"dynamic", frames}};
   const std::string table = MarkdownRegionTable(by, {"naive", "dynamic"}, "naive", false);
   EXPECT_NE(table.find("| Region A (175-70 m) | naive average error magnitude | 3 (2) | 2.000 |"),
             std::string::npos)
       << table;
-  EXPECT_NE(table.find("| Region A (175-70 m) | % difference, dynamic against naive | | 0.00 |"),
+  EXPECT_NE(table.find("| Region A (175-70 m) | % difference, dynamic against naive, same frames "
+                       "| 2 | 0.00 |"),
             std::string::npos)
       << table;
   EXPECT_EQ(table.find("Region C"), std::string::npos);
+}
+
+// The % rows compare the same frames: dynamic estimates the frame naive missed (x = 10, far
+// worse), which is in dynamic's own row but not in its % row.
+TEST(Tables, PercentRowsCompareTheSameFrames) {
+  const auto naive = ReadFrameCsv(Write("hand4.csv", kCsv));
+  auto dynamic = naive;
+  for (auto& f : dynamic) f.error[0] *= 0.5;  // half of naive's x error where both estimated
+  dynamic[2].estimated = true;
+  dynamic[2].error = {10, 0, 0, 0, 0, 0};
+  const std::map<std::string, std::vector<FrameRecord>> by = {{"naive", naive},
+                                                              {"dynamic", dynamic}};
+  const std::string table = MarkdownRegionTable(by, {"naive", "dynamic"}, "naive", false);
+  // Its own row: (0.5 + 1.5 + 10) / 3 = 4 over 3 frames, worse than naive's 2.
+  EXPECT_NE(table.find("| Region A (175-70 m) | dynamic average error magnitude | 3 (3) | 4.000 |"),
+            std::string::npos)
+      << table;
+  // On the 2 frames both estimated: 1 against 2, 50 % better.
+  EXPECT_NE(table.find("| Region A (175-70 m) | % difference, dynamic against naive, same frames "
+                       "| 2 | 50.00 |"),
+            std::string::npos)
+      << table;
+  const auto common = CommonFrames(dynamic, naive);
+  EXPECT_EQ(common.first.size(), 4u);  // the outside frame too; not the miss
+  EXPECT_EQ(common.second.size(), 4u);
+}
+
+// Hold the last estimate: a miss is scored with the last estimate's error against its truth.
+TEST(Tables, HoldLastPolicyScoresMissesWithThePublishedPose) {
+  auto frames = ReadFrameCsv(Write("hand5.csv", kCsv));
+  // The old format has no held estimates: published means estimated.
+  EXPECT_FALSE(frames[2].published);
+  EXPECT_TRUE(frames[1].published);
+  EXPECT_EQ(frames[1].published_error, frames[1].error);
+  frames[2].published = true;
+  frames[2].published_error = {-4, 0, 0, 0, 0, 2};
+  const auto held = ComputeRegionStats(frames, ErrorPolicy::kHoldLast);
+  EXPECT_EQ(held.at("A").estimated, 3);
+  EXPECT_DOUBLE_EQ(held.at("A").mean_abs[0], 8.0 / 3.0);  // (1 + 3 + 4) / 3
+  EXPECT_EQ(ComputeRegionStats(frames).at("A").estimated, 2);
+  const std::map<std::string, std::vector<FrameRecord>> by = {{"tracking", frames}};
+  EXPECT_NE(MarkdownRegionTable(by, {"tracking"}, "", false, ErrorPolicy::kHoldLast)
+                .find("| frames (published) |"),
+            std::string::npos);
 }
 
 TEST(Tables, CsvRoundTripAndErrors) {
@@ -89,6 +134,14 @@ TEST(Tables, CsvRoundTripAndErrors) {
   WriteFrameCsv(path, {tracked});
   EXPECT_EQ(ReadFrameCsv(path)[0].track, "rejected");
   EXPECT_EQ(ReadFrameCsv(path)[0].nees, 7.25);
+  // So do the published (held) columns of a miss.
+  FrameRecord miss = frames[2];
+  miss.published = true;
+  miss.published_error = {0.5, -0.25, 0, 1, 2, 3};
+  WriteFrameCsv(path, {miss});
+  EXPECT_FALSE(ReadFrameCsv(path)[0].estimated);
+  EXPECT_TRUE(ReadFrameCsv(path)[0].published);
+  EXPECT_EQ(ReadFrameCsv(path)[0].published_error, miss.published_error);
   // A range a hair below a region boundary keeps its region through the CSV.
   FrameRecord edge;
   edge.range_m = 38.0 - 1e-12;
@@ -106,12 +159,15 @@ TEST(Tables, CsvRoundTripAndErrors) {
     }
   };
   const std::string header = FrameCsvHeader() + "\n";
+  const std::string held = ",1,0,0,0,0,0,0\n";
   expect("t,x\n", "line 1: not a frame CSV header");
-  expect(header + "0,150,A,1\n", "line 2: 4 cells, 16 expected");
-  expect(header + "0,150,A,1,abc,0,0,0,0,0,1,1,0,0,off,1\n", "line 2: 'abc' is not a number");
-  expect(header + "0,50,A,1,0,0,0,0,0,0,1,1,0,0,off,1\n",
+  expect(header + "0,150,A,1\n", "line 2: 4 cells, 23 expected");
+  expect(header + "0,150,A,1,abc,0,0,0,0,0,1,1,0,0,off,1" + held, "line 2: 'abc' is not a number");
+  expect(header + "0,50,A,1,0,0,0,0,0,0,1,1,0,0,off,1" + held,
          "line 2: region 'A' does not match range 50");
-  expect(header + "0,150,A,1,0,0,0,0,0,0,1,1,0,0,off,x\n", "line 2: 'x' is not a number");
+  expect(header + "0,150,A,1,0,0,0,0,0,0,1,1,0,0,off,x" + held, "line 2: 'x' is not a number");
+  expect(header + "0,150,A,1,0,0,0,0,0,0,1,1,0,0,off,1,0,nan,nan,nan,nan,nan,nan\n",
+         "line 2: estimated but not published");
 }
 
 }  // namespace

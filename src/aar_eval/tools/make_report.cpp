@@ -1,15 +1,60 @@
 // make_report: DIR/report.md from DIR/<experiment>/frames.csv of each experiment
 // (aar_eval::WriteReport): per-region tables in the thesis's layout, % difference against the
 // baseline, the headline average improvement, misses, and the plots and run details if present.
+// With --suite: DIR/suite.md from DIR/approaches/*/<experiment>/frames.csv (aar_eval::
+// WriteSuiteReport): means over approaches with 95 % intervals, paired improvements.
 //   make_report DIR EXPERIMENT[,EXPERIMENT...] [BASELINE]
+//   make_report --suite DIR EXPERIMENT[,EXPERIMENT...] BASELINE[,BASELINE...]
 #include <iostream>
 #include <sstream>
+#include <string>
+#include <vector>
 
 #include "aar_eval/report.h"
+#include "aar_eval/suite.h"
+
+namespace {
+
+std::vector<std::string> Split(const std::string& list) {
+  std::vector<std::string> out;
+  std::stringstream s(list);
+  for (std::string e; std::getline(s, e, ',');)
+    if (!e.empty()) out.push_back(e);
+  return out;
+}
+
+int Suite(int argc, char** argv) {
+  if (argc != 5) {
+    std::cerr << "usage: make_report --suite DIR EXPERIMENT[,EXPERIMENT...] "
+                 "BASELINE[,BASELINE...]\n";
+    return 2;
+  }
+  aar_eval::SuiteReportOptions options;
+  options.dir = argv[2];
+  options.experiments = Split(argv[3]);
+  options.baselines = Split(argv[4]);
+  try {
+    const auto result = aar_eval::WriteSuiteReport(options);
+    for (const auto& i : result.incomplete)
+      std::cerr << "make_report: " << options.dir << "/approaches/" << i
+                << ": results missing or short (the report says so)\n";
+    std::cout << "make_report: wrote " << result.path << " (" << result.approaches.size()
+              << " approaches)\n";
+  } catch (const std::exception& e) {
+    std::cerr << "make_report: " << e.what() << "\n";
+    return 1;
+  }
+  return 0;
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
+  if (argc > 1 && std::string(argv[1]) == "--suite") return Suite(argc, argv);
   if (argc < 3) {
-    std::cerr << "usage: make_report DIR EXPERIMENT[,EXPERIMENT...] [BASELINE]\n";
+    std::cerr << "usage: make_report DIR EXPERIMENT[,EXPERIMENT...] [BASELINE]\n"
+                 "       make_report --suite DIR EXPERIMENT[,EXPERIMENT...] "
+                 "BASELINE[,BASELINE...]\n";
     return 2;
   }
   aar_eval::ReportOptions options;

@@ -13,6 +13,9 @@
 namespace aar_registration {
 namespace {
 
+// [m] PCL's GICP takes a distance: this one admits every pair on any aircraft-sized scene.
+constexpr double kNoGate = 1e6;
+
 struct PointSet {
   std::vector<Eigen::Vector3d> pts;
   size_t kdtree_get_point_count() const { return pts.size(); }
@@ -53,9 +56,11 @@ struct Icp::Target {
 
 Icp::Icp(const IcpOptions& options) : options_(options) {
   if (options.max_iterations < 1) throw std::invalid_argument("max_iterations must be at least 1");
-  if (!(options.max_correspondence_distance > 0.0)) {
-    throw std::invalid_argument("max_correspondence_distance must be positive");
+  if (!(options.max_correspondence_distance >= 0.0)) {
+    throw std::invalid_argument("max_correspondence_distance must be >= 0 (0: no gate)");
   }
+  if (!(options.min_rms_improvement >= 0.0))
+    throw std::invalid_argument("min_rms_improvement must be >= 0");
   if (options.min_correspondences < 3)
     throw std::invalid_argument("min_correspondences must be at least 3");
   if (options.independent_correspondences < 1)
@@ -88,7 +93,9 @@ void Icp::SetTarget(std::vector<Eigen::Vector3d> points, std::vector<Eigen::Vect
     target->gicp = std::make_unique<Gicp>();
     target->gicp->setInputTarget(ToPcl(target->set.pts));
     target->gicp->setMaximumIterations(options_.max_iterations);
-    target->gicp->setMaxCorrespondenceDistance(options_.max_correspondence_distance);
+    target->gicp->setMaxCorrespondenceDistance(options_.max_correspondence_distance > 0.0
+                                                   ? options_.max_correspondence_distance
+                                                   : kNoGate);
     target->gicp->setTransformationEpsilon(1e-10);
     target->gicp->setEuclideanFitnessEpsilon(options_.min_rms_improvement *
                                              options_.min_rms_improvement);
@@ -101,8 +108,12 @@ RegistrationResult Icp::Align(const std::vector<Eigen::Vector3d>& source,
   if (!has_target()) throw std::invalid_argument("ICP has no target");
   RegistrationResult result;
   result.T_target_source = guess;
-  const double max_d2 = options_.max_correspondence_distance * options_.max_correspondence_distance;
+  const double max_d2 =
+      options_.max_correspondence_distance > 0.0
+          ? options_.max_correspondence_distance * options_.max_correspondence_distance
+          : std::numeric_limits<double>::infinity();
   double previous_rms = std::numeric_limits<double>::infinity();
+  Eigen::Isometry3d previous_pose = guess;
   std::vector<std::pair<Eigen::Vector3d, size_t>> pairs;  // transformed source point, target index
   pairs.reserve(source.size());
 
@@ -194,16 +205,24 @@ RegistrationResult Icp::Align(const std::vector<Eigen::Vector3d>& source,
       result.converged = false;
       return result;
     }
-    // Converged once the RMS stops falling. A rise is no convergence: point-to-plane steps can
-    // overshoot far from the solution (point-to-point never rises).
+    // Converged once the RMS stops falling (section 3.6). With stop_on_rms_rise a rise stops
+    // too, at the pose before it; without, it iterates on.
     const double improvement = previous_rms - result.rms;
+    if (improvement < 0.0 && options_.stop_on_rms_rise) {
+      result.T_target_source = previous_pose;
+      match();
+      result.converged = true;
+      estimate_covariance();
+      return result;
+    }
     if (result.rms < options_.rms_epsilon ||
-        (improvement >= 0.0 && improvement < options_.min_rms_improvement)) {
+        (improvement >= 0.0 && improvement <= options_.min_rms_improvement)) {
       result.converged = true;
       estimate_covariance();
       return result;
     }
     previous_rms = result.rms;
+    previous_pose = result.T_target_source;
 
     // One step: the rigid motion (in the target frame) that best moves the pairs together.
     Eigen::Isometry3d step = Eigen::Isometry3d::Identity();

@@ -62,10 +62,12 @@ void Registrar::Align(const std::vector<Eigen::Vector3d>& sensed, const Eigen::I
                       RegistrarResult& out) const {
   out.icp = icp_.Align(sensed, seed.inverse());
   if (out.icp.correspondences < options_.icp.min_correspondences) {
-    throw std::runtime_error("only " + std::to_string(out.icp.correspondences) + " of " +
-                             std::to_string(sensed.size()) + " points within " +
-                             std::to_string(options_.icp.max_correspondence_distance) +
-                             " m of the reference: no pose");
+    const double gate = options_.icp.max_correspondence_distance;
+    throw std::runtime_error(
+        "only " + std::to_string(out.icp.correspondences) + " of " + std::to_string(sensed.size()) +
+        " points " +
+        (gate > 0.0 ? "within " + std::to_string(gate) + " m of the reference" : "finite") +
+        ": no pose");
   }
   out.T_tanker_receiver_registered = out.icp.T_target_source.inverse();
   if (!out.T_tanker_receiver_registered.matrix().allFinite())

@@ -30,6 +30,17 @@ struct Frame {
   }
 };
 
+// Tracking with ICP as config/experiments/tracking.yaml sets it: a 1 m correspondence gate, so a
+// view without the receiver is a miss the tracker coasts through.
+RegistrarOptions TrackingOptions() {
+  RegistrarOptions options;
+  options.track = true;
+  options.icp.max_correspondence_distance = 1.0;
+  options.icp.min_rms_improvement = 1e-5;
+  options.icp.stop_on_rms_rise = false;
+  return options;
+}
+
 TEST(Registrar, StaticReferenceFromTheCentroidSeed) {
   RegistrarOptions options;
   options.reference = ReferenceKind::kDense;
@@ -75,10 +86,19 @@ TEST(Registrar, MissesSayWhy) {
   r = registrar.Register({f.sensed.begin(), f.sensed.begin() + 5}, 1.0);
   EXPECT_FALSE(r.valid);
   EXPECT_EQ(r.error, "cloud has 5 finite points, too few to register");
-  // Points far from any reference point (2 km away) give no correspondence: no pose.
+  // Points 2 km from any reference point: the thesis's ICP (no gate) still pairs every one and
+  // gives a pose there, however poor.
   std::vector<Eigen::Vector3d> far = {{2000, 0, 0}, {2000, 30, 0}, {2000, 0, 30}};
   for (int i = 0; i < 20; ++i) far.push_back(Eigen::Vector3d(2000, i, -i));
   r = registrar.Register(far, 1.0);
+  EXPECT_TRUE(r.valid) << r.error;
+  EXPECT_EQ(r.icp.correspondences, static_cast<int>(far.size()));
+  EXPECT_GT(r.T_tanker_receiver.translation().x(), 1900.0);
+  // With a correspondence gate (ours, tracking.yaml) they have no correspondence: no pose.
+  options.icp.max_correspondence_distance = 1.0;
+  Registrar gated(options);
+  gated.SetReference(dense.points, dense.normals);
+  r = gated.Register(far, 1.0);
   EXPECT_FALSE(r.valid);
   EXPECT_NE(r.error.find("of the reference: no pose"), std::string::npos) << r.error;
   // A refused reference leaves none behind: the next frame is not registered to a stale one.
@@ -173,10 +193,9 @@ TEST(Registrar, CovarianceMatchesTheSpreadOfRegistrations) {
 // max_rejections frames in a row lose the track, and the next frame acquires it again at the
 // new place from the centroid seed. Nothing published is NaN.
 TEST(Registrar, TrackingCoastsThroughMissesAndReacquiresAfterAJump) {
-  RegistrarOptions options;
+  RegistrarOptions options = TrackingOptions();
   options.reference = ReferenceKind::kDense;
   options.icp.metric = IcpMetric::kPointToPlane;
-  options.track = true;
   options.seed = SeedMode::kPrediction;
   options.tracker.max_rejections = 4;
   Registrar registrar(options);
@@ -228,9 +247,8 @@ TEST(Registrar, TrackingCoastsThroughMissesAndReacquiresAfterAJump) {
 
 // Tracking when the stamps go back (a bag loop): a new track from that frame, never a NaN.
 TEST(Registrar, TrackingStartsAgainWhenStampsGoBack) {
-  RegistrarOptions options;
+  RegistrarOptions options = TrackingOptions();
   options.reference = ReferenceKind::kDense;
-  options.track = true;
   options.seed = SeedMode::kPrediction;
   Registrar registrar(options);
   registrar.BuildStaticReference(Receiver(), {});

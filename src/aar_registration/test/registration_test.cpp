@@ -3,6 +3,7 @@
 #include <random>
 
 #include <aar_geometry/mesh_io.h>
+#include <aar_geometry/pose.h>
 #include <aar_geometry/primitives.h>
 #include <aar_geometry/receiver_reference.h>
 #include <ros/package.h>
@@ -38,6 +39,9 @@ void CheckRecovery(IcpMetric metric) {
   options.metric = metric;
   options.max_correspondence_distance = 4.0;
   options.max_iterations = 100;
+  // Point-to-plane steps overshoot far from the solution: a rise of the RMS must not stop it.
+  options.stop_on_rms_rise = metric == IcpMetric::kPointToPoint;
+  options.min_rms_improvement = 1e-5;  // [m] the thesis's 0 would run to the cap here
   Icp icp(options);
   icp.SetTarget(target.points, target.normals);
 
@@ -137,11 +141,55 @@ TEST(Icp, BadInputs) {
   const ReferenceCloud target = SampleReceiver(Receiver(), ReferenceModelOptions{});
   icp.SetTarget(target.points);
   EXPECT_FALSE(icp.Align({}, Eigen::Isometry3d::Identity()).converged);  // empty source
-  // NaN points are skipped, far-off clouds have no correspondences: not converged, no throw.
+  // NaN points are skipped; too few points: not converged, no throw.
   std::vector<Eigen::Vector3d> nan_and_far = {{std::nan(""), 0, 0}, {500, 0, 0}, {501, 0, 0}};
-  const RegistrationResult r = icp.Align(nan_and_far, Eigen::Isometry3d::Identity());
+  RegistrationResult r = icp.Align(nan_and_far, Eigen::Isometry3d::Identity());
+  EXPECT_FALSE(r.converged);
+  EXPECT_EQ(r.correspondences, 2);  // no gate (thesis): every finite point pairs
+  // Behind a 1 m gate, far-off points have no correspondence.
+  IcpOptions gated;
+  gated.max_correspondence_distance = 1.0;
+  Icp gated_icp(gated);
+  gated_icp.SetTarget(target.points);
+  for (int i = 0; i < 20; ++i) nan_and_far.push_back(Eigen::Vector3d(500, i, 0));
+  r = gated_icp.Align(nan_and_far, Eigen::Isometry3d::Identity());
   EXPECT_FALSE(r.converged);
   EXPECT_EQ(r.correspondences, 0);
+  IcpOptions negative;
+  negative.max_correspondence_distance = -1.0;
+  EXPECT_THROW(Icp{negative}, std::invalid_argument);
+  negative = {};
+  negative.min_rms_improvement = -1e-3;
+  EXPECT_THROW(Icp{negative}, std::invalid_argument);
+}
+
+// Section 3.6: ICP stops when the RMS stops falling, at most 30 iterations, every point paired.
+// A cloud with a tenth of its points 20 m off (boom-like outliers): the thesis's ICP pairs them
+// all. With room to run (the thesis caps at 30) it stops once the RMS no longer falls; capped one
+// iteration earlier it had not stopped, and its RMS was higher.
+TEST(Icp, ThesisStopsWhenTheRmsStopsFallingWithEveryPointPaired) {
+  const ReferenceCloud target = SampleReceiver(Receiver(), ReferenceModelOptions{});
+  std::vector<Eigen::Vector3d> source;
+  const Eigen::Isometry3d T = aar_geometry::MakeTransform({0.3, -0.2, 0.1}, {0.02, -0.01, 0.03});
+  for (size_t i = 0; i < target.size(); i += 10) {
+    source.push_back(T * target.points[i]);
+    if (i % 100 == 0) source.push_back(Eigen::Vector3d(20.0, 0.0, 5.0) + target.points[i] * 0.1);
+  }
+  IcpOptions thesis;
+  thesis.max_iterations = 1000;
+  Icp icp(thesis);
+  icp.SetTarget(target.points);
+  const RegistrationResult r = icp.Align(source, Eigen::Isometry3d::Identity());
+  EXPECT_TRUE(r.converged);
+  EXPECT_EQ(r.correspondences, static_cast<int>(source.size()));
+  ASSERT_LT(r.iterations, thesis.max_iterations);
+  ASSERT_GT(r.iterations, 1);
+  thesis.max_iterations = r.iterations - 1;
+  Icp capped(thesis);
+  capped.SetTarget(target.points);
+  const RegistrationResult before = capped.Align(source, Eigen::Isometry3d::Identity());
+  EXPECT_FALSE(before.converged) << before.iterations << " " << before.rms << " " << r.rms;
+  EXPECT_GE(before.rms, r.rms);
 }
 
 TEST(ReferenceModel, ShelledReceiverHasNoUndersideFromAbove) {

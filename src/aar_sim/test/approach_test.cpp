@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -11,6 +12,7 @@
 #include <aar_geometry/robot_model.h>
 #include <ros/package.h>
 
+#include "aar_sim/approach.h"
 #include "aar_sim/flight_path.h"
 
 namespace aar_sim {
@@ -85,6 +87,56 @@ TEST(DefaultApproach, ClosesFastFarOutAndSlowlyNear) {
   EXPECT_GT(regions[1], 50);
   EXPECT_GT(regions[2], 50);
   EXPECT_GT(regions[3], 30);
+}
+
+// The approaches of a suite: reproducible per seed, different between seeds, each flown from
+// 170-175 m through every region to the nozzle in the receptacle, the boom inside its joint
+// limits and back at its static pose by contact.
+TEST(VariedApproach, ReproducibleDifferentAndEndingInContact) {
+  const auto boom = LoadBoom();
+  const auto poses = aar_geometry::ComputeLinkPoses(boom, BoomJointPositions(DefaultBoomPose()));
+  const Eigen::Vector3d nozzle = poses.at("nozzle_tip").translation();
+  std::vector<double> lateral;
+  for (uint64_t seed = 1; seed <= 6; ++seed) {
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    const ApproachOptions o = VariedApproach(seed);
+    EXPECT_EQ(o.seed, seed);
+    const auto rows = GenerateApproach(o, nozzle);
+    const auto again = GenerateApproach(VariedApproach(seed), nozzle);
+    ASSERT_EQ(rows.size(), again.size());
+    EXPECT_EQ(rows[rows.size() / 2].position_m, again[rows.size() / 2].position_m);
+    const double start_range = rows.front().position_m.norm();
+    EXPECT_GE(start_range, 170.0);
+    EXPECT_LE(start_range, 175.0);
+    lateral.push_back(rows.front().position_m.y());
+    const Eigen::Vector3d receptacle = rows.back().T_tanker_receiver() * ReceptacleInReceiver();
+    EXPECT_LT((receptacle - nozzle).norm(), 0.3);
+    int regions[4] = {0, 0, 0, 0};
+    for (const auto& row : rows) {
+      ++regions[static_cast<int>(aar_geometry::RegionOfRange(row.position_m.norm()))];
+      if (o.boom_swing == 0.0) continue;
+      ASSERT_TRUE(row.boom.has_value());
+      EXPECT_GE(row.boom->pitch, aar_geometry::DegToRad(20.0));
+      EXPECT_LE(row.boom->pitch, aar_geometry::DegToRad(40.0));
+      EXPECT_LE(std::abs(row.boom->roll), aar_geometry::DegToRad(15.0));
+      EXPECT_GE(row.boom->extension, 0.0);
+    }
+    EXPECT_EQ(regions[0], 0);
+    EXPECT_GT(regions[3], 20);
+    if (rows.back().boom) {
+      EXPECT_NEAR(rows.back().boom->pitch, DefaultBoomPose().pitch, 1e-12);
+      EXPECT_NEAR(rows.back().boom->extension, DefaultBoomPose().extension, 1e-12);
+    }
+  }
+  // Start offsets differ between seeds (lateral spread of metres at 175 m).
+  const auto [low, high] = std::minmax_element(lateral.begin(), lateral.end());
+  EXPECT_GT(*high - *low, 5.0);
+  ApproachOptions bad;
+  bad.boom_swing = 2.0;
+  EXPECT_THROW(GenerateApproach(bad, nozzle), std::invalid_argument);
+  bad = {};
+  bad.azimuth = 90.0;
+  EXPECT_THROW(GenerateApproach(bad, nozzle), std::invalid_argument);
 }
 
 }  // namespace

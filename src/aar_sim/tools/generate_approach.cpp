@@ -1,7 +1,11 @@
 // generate_approach: writes the default approach flight path, which ends with the receiver's
 // receptacle on the nozzle tip of the boom at its static pose. Deterministic: the committed
 // config/flight_paths/approach_default.csv is its output, and a test regenerates it and compares.
-//   generate_approach MODELS_DIR FLIGHT_PATH_CSV
+// With SEED, one approach of a suite instead (aar_sim::VariedApproach): start offset, closure
+// profile, wander and boom motion drawn from SEED; its settings are printed as one CSV line
+// (seed,elevation_deg,azimuth_deg,far_speed,mid_speed,near_speed,position_wander_m,
+// attitude_wander_deg,boom_swing).
+//   generate_approach MODELS_DIR FLIGHT_PATH_CSV [SEED]
 #include <filesystem>
 #include <iostream>
 #include <string>
@@ -12,12 +16,22 @@
 #include "aar_sim/approach.h"
 
 int main(int argc, char** argv) {
-  if (argc != 3) {
-    std::cerr << "usage: generate_approach MODELS_DIR FLIGHT_PATH_CSV\n";
+  if (argc != 3 && argc != 4) {
+    std::cerr << "usage: generate_approach MODELS_DIR FLIGHT_PATH_CSV [SEED]\n";
     return 2;
   }
   const std::string dir = argv[1];
   const std::string csv = argv[2];
+  aar_sim::ApproachOptions options;
+  if (argc == 4) {
+    const std::string seed = argv[3];
+    if (seed.empty() || seed.size() > 18 ||
+        seed.find_first_not_of("0123456789") != std::string::npos) {
+      std::cerr << "generate_approach: SEED must be a whole number, not '" << seed << "'\n";
+      return 2;
+    }
+    options = aar_sim::VariedApproach(std::stoull(seed));
+  }
   try {
     // Kinematics from the boom's URDF (meshes resolved in MODELS_DIR) so that the path and the
     // model cannot disagree.
@@ -28,10 +42,16 @@ int main(int argc, char** argv) {
     const auto poses = aar_geometry::ComputeLinkPoses(
         model, aar_description::BoomJointPositions(aar_description::DefaultBoomPose()));
     const Eigen::Vector3d tip = poses.at("nozzle_tip").translation();
-    const auto rows = aar_sim::GenerateApproach(aar_sim::ApproachOptions{}, tip);
+    const auto rows = aar_sim::GenerateApproach(options, tip);
     aar_sim::WriteFlightPath(csv, rows);
     std::cout << "wrote " << csv << " (" << rows.size() << " rows, " << rows.back().t
               << " s, contact range " << rows.back().position_m.norm() << " m)\n";
+    if (argc == 4) {
+      const auto& o = options;
+      std::cout << "approach: " << o.seed << ',' << o.elevation << ',' << o.azimuth << ','
+                << o.far_speed << ',' << o.mid_speed << ',' << o.near_speed << ','
+                << o.position_wander << ',' << o.attitude_wander << ',' << o.boom_swing << "\n";
+    }
   } catch (const std::exception& e) {
     std::cerr << "generate_approach: " << e.what() << "\n";
     return 1;

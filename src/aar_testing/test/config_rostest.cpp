@@ -56,6 +56,22 @@ TEST(Config, EveryExperimentLoadsIntoEveryNode) {
         EXPECT_FALSE(stereo.roi.enabled) << name << " is a thesis experiment";
         EXPECT_FALSE(occlusion.extrapolate_estimate) << name << " is a thesis experiment";
       }
+      if (name == "culling_only") {  // dynamic's culling, naive's reference
+        EXPECT_EQ(occlusion.step.cull, aar_occlusion::CullMethod::kVolumes);
+        EXPECT_FALSE(occlusion.step.build_reference);
+        EXPECT_EQ(registration.registrar.reference, aar_registration::ReferenceKind::kShelled);
+      }
+      if (name == "dynamic_reference_only") {  // dynamic's reference, naive's cloud
+        EXPECT_EQ(occlusion.step.cull, aar_occlusion::CullMethod::kNone);
+        EXPECT_TRUE(occlusion.step.build_reference);
+        EXPECT_EQ(registration.registrar.reference, aar_registration::ReferenceKind::kTopic);
+      }
+      if (name != "tracking") {  // the thesis's ICP: every point paired, stop when RMS stalls
+        EXPECT_EQ(registration.registrar.icp.max_correspondence_distance, 0.0) << name;
+        EXPECT_EQ(registration.registrar.icp.min_rms_improvement, 0.0) << name;
+        EXPECT_TRUE(registration.registrar.icp.stop_on_rms_rise) << name;
+        EXPECT_EQ(registration.registrar.icp.max_iterations, 30) << name;
+      }
       if (name == "naive" || name == "no_boom") {
         EXPECT_EQ(occlusion.step.cull, aar_occlusion::CullMethod::kNone);
         EXPECT_EQ(registration.registrar.reference, aar_registration::ReferenceKind::kShelled);
@@ -65,7 +81,7 @@ TEST(Config, EveryExperimentLoadsIntoEveryNode) {
       ADD_FAILURE() << "experiment " << name << ": " << e.what();
     }
   }
-  EXPECT_EQ(experiments, 5);  // the thesis's four and tracking
+  EXPECT_EQ(experiments, 7);  // the thesis's four, tracking and the two ablations
 }
 
 TEST(Config, StereoAndEvalLoadAsTheLaunchFilesGiveThem) {

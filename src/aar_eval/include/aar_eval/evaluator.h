@@ -86,6 +86,7 @@ class Evaluator {
   std::map<int64_t, Estimate> estimates_;
   std::vector<FrameRecord> records_;
   int no_truth_ = 0;
+  std::optional<Eigen::Isometry3d> last_estimate_;  // T_tanker_receiver, held through misses
   double position_sum_ = 0.0;  // [m] of the estimated frames' position error norms
   int estimated_ = 0;
 };

@@ -4,6 +4,7 @@
 #include <limits>
 #include <map>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <aar_geometry/pose_error.h>
@@ -27,13 +28,23 @@ struct FrameRecord {
   // Normalised estimation error squared of the pose against its covariance (6 degrees of
   // freedom: about 6 on average when the covariance is honest); NaN without a covariance.
   double nees = std::numeric_limits<double>::quiet_NaN();
+  // The miss policy of a live system: on a miss it holds (publishes again) the last estimate.
+  // `published`: this frame's estimate or a held one exists (false only before the first
+  // estimate); `published_error` is its error against this frame's truth, as `error`.
+  bool published = false;
+  std::array<double, 6> published_error{};
 };
 
+// Which error a table is over: each frame's own estimate (misses left out), or what a live
+// system publishes under "hold the last estimate" (only frames before the first estimate left
+// out).
+enum class ErrorPolicy { kEstimated, kHoldLast };
+
 // Per region and component: average error magnitude and RMS error (thesis Eq. 7), over the frames
-// that have an estimate.
+// that have an estimate (or, under ErrorPolicy::kHoldLast, a published pose).
 struct RegionStats {
   int frames = 0;     // all frames in the region
-  int estimated = 0;  // frames with an estimate
+  int estimated = 0;  // frames in the averages: with an estimate (or a published pose)
   std::array<double, 6> mean_abs{};
   std::array<double, 6> rms{};
 };
@@ -42,26 +53,36 @@ struct RegionStats {
 const std::array<std::string, 6>& ComponentNames();
 
 // Region A, B, C and the whole approach ("all": every frame in A, B or C).
-std::map<std::string, RegionStats> ComputeRegionStats(const std::vector<FrameRecord>& frames);
+std::map<std::string, RegionStats> ComputeRegionStats(const std::vector<FrameRecord>& frames,
+                                                      ErrorPolicy policy = ErrorPolicy::kEstimated);
+
+// The frames of `a` and `b` (matched by path time to 1 ms) that both have an error under
+// `policy`, in `a`'s order: the only fair ground for a % difference between two experiments.
+std::pair<std::vector<FrameRecord>, std::vector<FrameRecord>> CommonFrames(
+    const std::vector<FrameRecord>& a, const std::vector<FrameRecord>& b,
+    ErrorPolicy policy = ErrorPolicy::kEstimated);
 
 // The thesis's % difference of `value` against `baseline`: (baseline - value) / baseline * 100,
 // positive when `value` is smaller (better). NaN when the baseline is 0.
 double PercentDifference(double value, double baseline);
 
 // CSV of records (header t,range_m,region,estimated,x_m,y_m,z_m,roll_deg,pitch_deg,yaw_deg,
-// converged,iterations,rms_m,registration_ms). Read throws aar_geometry::LoadError naming file
-// and line.
+// converged,iterations,rms_m,registration_ms,track,nees,published,published_x_m, ...,
+// published_yaw_deg). Read also takes the shorter headers of earlier runs (published then
+// means estimated). Throws aar_geometry::LoadError naming file and line.
 void WriteFrameCsv(const std::string& path, const std::vector<FrameRecord>& frames);
 std::vector<FrameRecord> ReadFrameCsv(const std::string& path);
 std::string FrameCsvHeader();
 std::string FrameCsvRow(const FrameRecord& frame);
 
 // Markdown table in the thesis's layout: for each region, one row per experiment of average
-// error magnitude (and RMS with `rms` set), plus a "% difference" row for each experiment against
-// `baseline` (an experiment name; empty: none).
+// error magnitude (and RMS with `rms` set) over its frames with an error under `policy`, plus a
+// "% difference" row for each experiment against `baseline` (an experiment name; empty: none).
+// A % row compares the two on the same frames, those both have an error on, and counts them.
 std::string MarkdownRegionTable(
-    const std::map<std::string, std::map<std::string, RegionStats>>& by_experiment,
-    const std::vector<std::string>& experiment_order, const std::string& baseline, bool rms);
+    const std::map<std::string, std::vector<FrameRecord>>& by_experiment,
+    const std::vector<std::string>& experiment_order, const std::string& baseline, bool rms,
+    ErrorPolicy policy = ErrorPolicy::kEstimated);
 
 // The thesis's headline: the mean over the six components, whole approach, of the % difference
 // of the average error magnitude against the baseline.

@@ -16,11 +16,17 @@ enum class IcpMetric { kPointToPoint, kPointToPlane, kGeneralizedPcl };
 struct IcpOptions {
   IcpMetric metric = IcpMetric::kPointToPoint;  // thesis
   int max_iterations = 30;                      // thesis
-  double max_correspondence_distance = 1.0;     // [m] farther pairs are rejected
-  double min_rms_improvement =
-      1e-5;                      // [m] converged when RMS falls by less (thesis: stops improving)
+  // [m] Pairs farther apart are dropped. 0 (thesis): every sensed point pairs with its nearest
+  // reference point, so ICP gives a pose on every frame with points. Ours (tracking): 1 m.
+  double max_correspondence_distance = 0.0;
+  // [m] Stop once the RMS falls by no more than this. 0 (thesis section 3.6): when the RMS
+  // stops falling.
+  double min_rms_improvement = 0.0;
+  // Thesis: a rise of the RMS also stops ICP, at the pose before the rise. Off, a rise iterates
+  // on (point-to-plane steps can overshoot far from the solution; a gate lets pairs enter).
+  bool stop_on_rms_rise = true;
   double rms_epsilon = 1e-4;     // [m] stop when RMS falls below
-  int min_correspondences = 10;  // fewer: not converged
+  int min_correspondences = 10;  // fewer: no pose
   // The measurement covariance treats the matched pairs as this many independent ones at most:
   // stereo errors of neighbouring points are strongly correlated (one disparity error smears a
   // patch), so thousands of pairs do not pin a pose down thousands of times better.
@@ -33,7 +39,7 @@ struct IcpOptions {
 // T_target_source maps source points onto the target.
 struct RegistrationResult {
   Eigen::Isometry3d T_target_source = Eigen::Isometry3d::Identity();
-  bool converged = false;  // stopped by the RMS criteria with enough correspondences
+  bool converged = false;  // stopped by the RMS criteria (not out of iterations), enough pairs
   int iterations = 0;
   double rms = 0.0;      // [m] over the correspondences of T_target_source
   double fitness = 0.0;  // share of source points with a correspondence

@@ -45,6 +45,7 @@ RegistrationNodeOptions LoadRegistrationNodeOptions(const ros::NodeHandle& nh) {
   r.icp.max_correspondence_distance =
       params.Get("max_correspondence_distance", r.icp.max_correspondence_distance);
   r.icp.min_rms_improvement = params.Get("min_rms_improvement", r.icp.min_rms_improvement);
+  r.icp.stop_on_rms_rise = params.Get("stop_on_rms_rise", r.icp.stop_on_rms_rise);
   r.icp.rms_epsilon = params.Get("rms_epsilon", r.icp.rms_epsilon);
   r.icp.independent_correspondences =
       params.Get("independent_correspondences", r.icp.independent_correspondences);

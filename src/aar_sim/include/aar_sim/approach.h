@@ -21,8 +21,21 @@ struct ApproachOptions {
   double position_wander = 0.6;  // [m] peak wander far out, fading to 0 at contact
   double attitude_wander = 1.5;  // [deg] peak roll/pitch/yaw wander far out
   double pitch = 2.0;            // [deg] nose-up trim of the receiver
+  // [deg] of the start point about the contact position, seen from it: positive towards the
+  // tanker's +y (left); the lateral start offset.
+  double azimuth = 0.0;
+  // Boom motion: 0 keeps the boom at its static pose and writes no boom columns; s > 0 swings
+  // it by up to s x (5 deg pitch, 8 deg roll, 1 m extension) with seeded periods and phases
+  // while the receiver is beyond 60 m, settling to the static pose by 45 m so that the nozzle
+  // meets the receptacle at contact.
+  double boom_swing = 0.0;
   uint64_t seed = 7;
 };
+
+// One approach of a suite: the default's shape with start offset (elevation 8-18 deg, azimuth
+// +/-10 deg), closure profile (far 4-8, mid 1.5-3.5, near 0.4-0.9 m/s), wander (position 0.2-1.0
+// m, attitude 0.5-2.5 deg) and boom swing (0-1) drawn from `seed`, which also seeds the wander.
+ApproachOptions VariedApproach(uint64_t seed);
 
 // Rows from t = 0 to the end of the hold; the last rows put the receptacle exactly on
 // `contact_receptacle_in_tanker` [m] (the boom's nozzle tip) at the trim attitude.

@@ -1,0 +1,42 @@
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace aar_eval {
+
+// The mean of independent samples (one per approach) with its two-sided Student-t confidence
+// interval. With fewer than two samples there is no interval (low = high = mean).
+struct Interval {
+  int n = 0;
+  double mean = 0.0;
+  double low = 0.0;
+  double high = 0.0;
+};
+// NaN samples are left out. `confidence` in (0, 1).
+Interval MeanInterval(const std::vector<double>& samples, double confidence = 0.95);
+
+struct SuiteReportOptions {
+  std::string dir;  // DIR/approaches/<name>/<experiment>/frames.csv; DIR/suite.md is written
+  std::vector<std::string> experiments;  // in table order
+  std::vector<std::string> baselines;    // paired improvements against each (e.g. naive, no_boom)
+  double confidence = 0.95;
+};
+
+struct SuiteReportResult {
+  std::string path;                     // DIR/suite.md
+  std::vector<std::string> approaches;  // those found, in name order
+  // "<approach>/<experiment>" without a frames.csv, or with fewer rows than the approach's
+  // most complete experiment: the report is then marked incomplete.
+  std::vector<std::string> incomplete;
+};
+
+// DIR/suite.md: the run details (DIR/run.txt) and the approaches' settings (DIR/approaches.csv)
+// if present; per region, each experiment's coverage and its average error magnitude per
+// component as the mean over approaches with a confidence interval; and each experiment's
+// paired per-approach improvement over each baseline (the thesis's average improvement, on the
+// frames both estimated in that approach) with its interval. Throws std::runtime_error when no
+// approach has results or the report cannot be written, aar_geometry::LoadError for a bad CSV.
+SuiteReportResult WriteSuiteReport(const SuiteReportOptions& options);
+
+}  // namespace aar_eval
