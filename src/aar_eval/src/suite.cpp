@@ -147,7 +147,8 @@ SuiteReportResult WriteSuiteReport(const SuiteReportOptions& options) {
   for (const auto& [a, by_e] : records)
     for (const auto& [e, frames] : by_e) stats[e][a] = ComputeRegionStats(frames);
 
-  out << "## Coverage\n\nShare of frames with an estimate of their own (%).\n\n"
+  out << "## Coverage\n\nShare of frames with an estimate of their own (%; the interval clipped "
+         "to 0-100).\n\n"
       << "| experiment | approaches | region A | region B | region C | whole approach |\n"
       << "|---|---:|---:|---:|---:|---:|\n";
   for (const auto& e : options.experiments) {
@@ -161,7 +162,10 @@ SuiteReportResult WriteSuiteReport(const SuiteReportOptions& options) {
                             ? Nan()
                             : 100.0 * it->second.estimated / it->second.frames);
       }
-      out << ' ' << Format(MeanInterval(share, options.confidence), 1) << " |";
+      Interval i = MeanInterval(share, options.confidence);
+      i.low = std::max(i.low, 0.0);  // a share: the t interval clipped to what can be
+      i.high = std::min(i.high, 100.0);
+      out << ' ' << Format(i, 1) << " |";
     }
     out << "\n";
   }
