@@ -1,0 +1,55 @@
+// scripts/run --suite refuses bad arguments with a message naming them and a non-zero exit,
+// before any run starts (scripts/suite parses them after setup and build).
+#include <gtest/gtest.h>
+
+#include <sys/wait.h>
+
+#include <array>
+#include <cstdio>
+#include <memory>
+#include <string>
+
+#include "aar_testing/paths.h"
+
+namespace {
+
+struct Result {
+  int status = -1;
+  std::string output;
+};
+
+Result Suite(const std::string& args) {
+  const std::string command = "/usr/bin/python3 " + aar_testing::WorkspaceRoot() +
+                              "/scripts/suite " + args + " --out /tmp/aar_suite_script_test 2>&1";
+  Result r;
+  std::unique_ptr<FILE, int (*)(FILE*)> pipe(popen(command.c_str(), "r"), pclose);
+  std::array<char, 4096> buffer;
+  while (fgets(buffer.data(), buffer.size(), pipe.get())) r.output += buffer.data();
+  const int status = pclose(pipe.release());
+  r.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
+
+TEST(SuiteScript, BadArgumentsAreNamedAndRefused) {
+  const struct {
+    std::string args, needle;
+  } cases[] = {
+      {"--suite 0", "--suite takes a number of approaches of at least 1, not '0'"},
+      {"--suite -3", "--suite takes a number of approaches of at least 1, not '-3'"},
+      {"--suite 2 --seed abc", "--seed takes a whole number (at most 12 digits), not 'abc'"},
+      {"--suite 2 --jobs 999", "(this machine's cores), not '999'"},
+      {"--suite 2 --jobs 0", "(this machine's cores), not '0'"},
+      {"--suite 2 --experiments naive,nonsense", "no experiment 'nonsense' in config/experiments/"},
+      {"--suite 2 --rate -1", "--rate takes a positive number of frames per second, not '-1'"},
+      {"--suite 2 --noise x", "--noise takes a sigma in grey levels (>= 0), not 'x'"},
+      {"--suite 2 --sim-config /nonexistent.yaml",
+       "--sim-config '/nonexistent.yaml' does not exist"},
+  };
+  for (const auto& c : cases) {
+    const Result r = Suite(c.args);
+    EXPECT_EQ(r.status, 2) << c.args << ": " << r.output;
+    EXPECT_NE(r.output.find(c.needle), std::string::npos) << c.args << ": " << r.output;
+  }
+}
+
+}  // namespace
