@@ -84,6 +84,32 @@ TEST(Config, EveryExperimentLoadsIntoEveryNode) {
   EXPECT_EQ(experiments, 7);  // the thesis's four, tracking and the two ablations
 }
 
+// Every camera mount in config/mounts/ loads into the simulator over config/sim.yaml and moves
+// only the rig: thesis_share is 5 m further forward and 1 m lower than the default mount.
+TEST(Config, EveryCameraMountLoadsIntoTheSim) {
+  const std::string dir = aar_testing::ConfigDir() + "/mounts";
+  int mounts = 0;
+  const auto base = aar_sim::LoadSimNodeOptions(ros::NodeHandle("/sim"));
+  for (const auto& entry : std::filesystem::directory_iterator(dir)) {
+    if (entry.path().extension() != ".yaml") continue;
+    const std::string name = entry.path().stem().string();
+    ++mounts;
+    ros::NodeHandle root("/mount_" + name);
+    ASSERT_TRUE(root.hasParam("sim")) << name << ": not loaded by config.test (add it there)";
+    try {
+      const auto sim = aar_sim::LoadSimNodeOptions(ros::NodeHandle(root, "sim"));
+      const Eigen::Vector3d moved = sim.world.rig.T_tanker_left_optical.translation() -
+                                    base.world.rig.T_tanker_left_optical.translation();
+      if (name == "thesis_share") EXPECT_LT((moved - Eigen::Vector3d(5.0, 0.0, -1.0)).norm(), 1e-9);
+      EXPECT_TRUE(sim.world.rig.T_tanker_left_optical.linear().isApprox(
+          base.world.rig.T_tanker_left_optical.linear()));
+    } catch (const std::exception& e) {
+      ADD_FAILURE() << "mount " << name << ": " << e.what();
+    }
+  }
+  EXPECT_EQ(mounts, 1);
+}
+
 TEST(Config, StereoAndEvalLoadAsTheLaunchFilesGiveThem) {
   try {
     const auto stereo = aar_stereo::LoadStereoNodeOptions(ros::NodeHandle("/stereo/aar_stereo"));

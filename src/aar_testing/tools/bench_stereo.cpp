@@ -63,10 +63,15 @@ int main(int argc, char** argv) {
   const std::string csv = argc > 3 ? argv[3] : "";
   try {
     aar_sim::WorldOptions w = aar_testing::SimStereo::DefaultWorld();
-    // AAR_RIG_Y [m] moves the rig sideways (default 1 m left of the boom plane, as aar_sim's).
-    const double rig_y = std::getenv("AAR_RIG_Y") ? std::stod(std::getenv("AAR_RIG_Y")) : 1.0;
-    w.rig = aar_sim::MakeStereoRig(aar_sim::CameraIntrinsics::FromHorizontalFov(1280, 960, 60.0),
-                                   0.5, {-20.0, rig_y, -3.0});
+    // AAR_RIG_X, AAR_RIG_Y, AAR_RIG_Z [m] and AAR_RIG_PITCH [deg down] move the rig (defaults:
+    // config/sim.yaml's, 1 m left of the boom plane), for trying other camera mounts.
+    auto env = [](const char* name, double fallback) {
+      return std::getenv(name) ? std::stod(std::getenv(name)) : fallback;
+    };
+    w.rig = aar_sim::MakeStereoRig(
+        aar_sim::CameraIntrinsics::FromHorizontalFov(1280, 960, 60.0), 0.5,
+        {env("AAR_RIG_X", -20.0), env("AAR_RIG_Y", 1.0), env("AAR_RIG_Z", -3.0)}, 180.0,
+        env("AAR_RIG_PITCH", 25.0));
     const aar_stereo::StereoOptions options;  // thesis defaults: BM 9 / 48, every 8th point
     aar_testing::SimStereo sim(w, options);
     aar_sim::World& world = sim.world();
