@@ -18,15 +18,6 @@
 namespace aar_eval {
 namespace {
 
-const std::vector<std::pair<std::string, std::string>>& Regions() {
-  static const std::vector<std::pair<std::string, std::string>> regions = {
-      {"A", "Region A (175-70 m)"},
-      {"B", "Region B (70-38 m)"},
-      {"C", "Region C (38-32 m)"},
-      {"all", "Whole approach"}};
-  return regions;
-}
-
 double Nan() { return std::numeric_limits<double>::quiet_NaN(); }
 
 // "mean [low, high]" at `digits`, or "mean (n = 1)" / "-" without an interval.
@@ -154,7 +145,7 @@ SuiteReportResult WriteSuiteReport(const SuiteReportOptions& options) {
   for (const auto& e : options.experiments) {
     if (!stats.count(e)) continue;
     out << "| " << e << " | " << stats[e].size() << " |";
-    for (const auto& [key, title] : Regions()) {
+    for (const auto& [key, title] : RegionTitles()) {
       std::vector<double> share;
       for (const auto& [a, s] : stats[e]) {
         const auto it = s.find(key);
@@ -172,7 +163,7 @@ SuiteReportResult WriteSuiteReport(const SuiteReportOptions& options) {
 
   out << "\n## Average error magnitude\n\nPer approach over the frames it estimated; then the "
          "mean over approaches.\n";
-  for (const auto& [key, title] : Regions()) {
+  for (const auto& [key, title] : RegionTitles()) {
     out << "\n### " << title << "\n\n| experiment | approaches |";
     for (const auto& c : ComponentNames()) out << ' ' << c << " |";
     out << "\n|---|---:|---:|---:|---:|---:|---:|---:|\n";
@@ -211,7 +202,7 @@ SuiteReportResult WriteSuiteReport(const SuiteReportOptions& options) {
         const auto common = CommonFrames(by_e.at(e), by_e.at(baseline));
         const auto m = ComputeRegionStats(common.first);
         const auto b = ComputeRegionStats(common.second);
-        for (const auto& [key, title] : Regions()) {
+        for (const auto& [key, title] : RegionTitles()) {
           const auto it = m.find(key);
           gain[key].push_back(it == m.end() || it->second.estimated == 0
                                   ? Nan()
@@ -219,7 +210,7 @@ SuiteReportResult WriteSuiteReport(const SuiteReportOptions& options) {
         }
       }
       out << "| " << e << " | " << paired << " |";
-      for (const auto& [key, title] : Regions()) {
+      for (const auto& [key, title] : RegionTitles()) {
         const Interval i = MeanInterval(gain[key], options.confidence);
         out << ' ' << Format(i, 1) << (i.n ? " %" : "") << Verdict(i) << " |";
       }

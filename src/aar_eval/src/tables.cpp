@@ -29,6 +29,15 @@ const std::array<double, 6>& ErrorOf(const FrameRecord& f, ErrorPolicy policy) {
 
 }  // namespace
 
+const std::vector<std::pair<std::string, std::string>>& RegionTitles() {
+  static const std::vector<std::pair<std::string, std::string>> regions = {
+      {"A", "Region A (175-70 m)"},
+      {"B", "Region B (70-38 m)"},
+      {"C", "Region C (38-32 m)"},
+      {"all", "Whole approach"}};
+  return regions;
+}
+
 std::map<std::string, RegionStats> ComputeRegionStats(const std::vector<FrameRecord>& frames,
                                                       ErrorPolicy policy) {
   std::map<std::string, RegionStats> stats;
@@ -194,11 +203,6 @@ std::vector<FrameRecord> ReadFrameCsv(const std::string& path) {
 std::string MarkdownRegionTable(const std::map<std::string, std::vector<FrameRecord>>& records,
                                 const std::vector<std::string>& order, const std::string& baseline,
                                 bool rms, ErrorPolicy policy) {
-  static const std::vector<std::pair<std::string, std::string>> regions = {
-      {"A", "Region A (175-70 m)"},
-      {"B", "Region B (70-38 m)"},
-      {"C", "Region C (38-32 m)"},
-      {"all", "Whole approach"}};
   const char* counted = policy == ErrorPolicy::kEstimated ? "estimated" : "published";
   std::map<std::string, std::map<std::string, RegionStats>> stats;
   // Per experiment: its stats and the baseline's on the frames both have an error on.
@@ -218,7 +222,7 @@ std::string MarkdownRegionTable(const std::map<std::string, std::vector<FrameRec
   s << "| region | experiment | frames (" << counted << ") |";
   for (const auto& c : ComponentNames()) s << ' ' << c << " |";
   s << "\n|---|---|---:|---:|---:|---:|---:|---:|---:|\n";
-  for (const auto& [key, title] : regions) {
+  for (const auto& [key, title] : RegionTitles()) {
     for (const auto& name : order) {
       const auto it = stats[name].find(key);
       if (it == stats[name].end()) continue;

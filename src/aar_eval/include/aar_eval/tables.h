@@ -52,6 +52,10 @@ struct RegionStats {
 // The component names in table order, with units: "x (m)", ..., "yaw (deg)".
 const std::array<std::string, 6>& ComponentNames();
 
+// The keys of ComputeRegionStats in table order ("A", "B", "C", "all") with their titles
+// ("Region A (175-70 m)", ..., "Whole approach").
+const std::vector<std::pair<std::string, std::string>>& RegionTitles();
+
 // Region A, B, C and the whole approach ("all": every frame in A, B or C).
 std::map<std::string, RegionStats> ComputeRegionStats(const std::vector<FrameRecord>& frames,
                                                       ErrorPolicy policy = ErrorPolicy::kEstimated);
