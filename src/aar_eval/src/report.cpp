@@ -58,7 +58,7 @@ ReportResult WriteReport(const ReportOptions& options) {
       << "|---|---:|---:|---:|---:|\n";
   for (const auto& e : done) {
     out << "| " << e << " |";
-    for (const char* key : {"A", "B", "C", "all"}) {
+    for (const auto& [key, title] : RegionTitles()) {
       const auto it = stats[e].find(key);
       if (it == stats[e].end())
         out << " - |";
@@ -80,9 +80,9 @@ ReportResult WriteReport(const ReportOptions& options) {
         << baseline << ", on the frames both estimated.\n\n";
     for (const auto& e : done) {
       if (e == baseline) continue;
-      const auto common = CommonFrames(records[e], records[baseline]);
-      const auto mine = ComputeRegionStats(common.first);
-      const auto theirs = ComputeRegionStats(common.second);
+      const auto paired = ComputePairedRegionStats(records[e], records[baseline]);
+      const auto& mine = paired.value;
+      const auto& theirs = paired.baseline;
       out << "- " << e << ": average improvement over " << baseline << ": ";
       if (!mine.count("all") || mine.at("all").estimated == 0) {
         out << "no frame both estimated\n";
@@ -102,9 +102,10 @@ ReportResult WriteReport(const ReportOptions& options) {
             << " of " << frames << ", " << baseline << " " << b_estimated << ")";
       if (e == "dynamic") out << " (thesis: 74.1%, on every frame)";
       if (n != frames) {
-        const auto held = CommonFrames(records[e], records[baseline], ErrorPolicy::kHoldLast);
-        const auto hm = ComputeRegionStats(held.first, ErrorPolicy::kHoldLast);
-        const auto hb = ComputeRegionStats(held.second, ErrorPolicy::kHoldLast);
+        const auto held =
+            ComputePairedRegionStats(records[e], records[baseline], ErrorPolicy::kHoldLast);
+        const auto& hm = held.value;
+        const auto& hb = held.baseline;
         if (hm.count("all") && hm.at("all").estimated > 0) {
           out << "; as published (the last estimate held through misses): "
               << AverageImprovement(hm.at("all"), hb.at("all")) << "% on " << hm.at("all").estimated

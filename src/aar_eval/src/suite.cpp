@@ -199,9 +199,9 @@ SuiteReportResult WriteSuiteReport(const SuiteReportOptions& options) {
       for (const auto& [a, by_e] : records) {
         if (!by_e.count(e) || !by_e.count(baseline)) continue;
         ++paired;
-        const auto common = CommonFrames(by_e.at(e), by_e.at(baseline));
-        const auto m = ComputeRegionStats(common.first);
-        const auto b = ComputeRegionStats(common.second);
+        const auto paired_stats = ComputePairedRegionStats(by_e.at(e), by_e.at(baseline));
+        const auto& m = paired_stats.value;
+        const auto& b = paired_stats.baseline;
         for (const auto& [key, title] : RegionTitles()) {
           const auto it = m.find(key);
           gain[key].push_back(it == m.end() || it->second.estimated == 0

@@ -86,6 +86,12 @@ std::pair<std::vector<FrameRecord>, std::vector<FrameRecord>> CommonFrames(
   return common;
 }
 
+PairedRegionStats ComputePairedRegionStats(const std::vector<FrameRecord>& a,
+                                           const std::vector<FrameRecord>& b, ErrorPolicy policy) {
+  const auto common = CommonFrames(a, b, policy);
+  return {ComputeRegionStats(common.first, policy), ComputeRegionStats(common.second, policy)};
+}
+
 double PercentDifference(double value, double baseline) {
   if (baseline == 0.0) return std::numeric_limits<double>::quiet_NaN();
   return (baseline - value) / baseline * 100.0;
@@ -205,17 +211,12 @@ std::string MarkdownRegionTable(const std::map<std::string, std::vector<FrameRec
                                 bool rms, ErrorPolicy policy) {
   const char* counted = policy == ErrorPolicy::kEstimated ? "estimated" : "published";
   std::map<std::string, std::map<std::string, RegionStats>> stats;
-  // Per experiment: its stats and the baseline's on the frames both have an error on.
-  std::map<std::string,
-           std::pair<std::map<std::string, RegionStats>, std::map<std::string, RegionStats>>>
-      paired;
+  std::map<std::string, PairedRegionStats> paired;  // against the baseline
   const bool compare = !baseline.empty() && records.count(baseline);
   for (const auto& name : order) {
     stats[name] = ComputeRegionStats(records.at(name), policy);
     if (!compare || name == baseline) continue;
-    const auto common = CommonFrames(records.at(name), records.at(baseline), policy);
-    paired[name] = {ComputeRegionStats(common.first, policy),
-                    ComputeRegionStats(common.second, policy)};
+    paired[name] = ComputePairedRegionStats(records.at(name), records.at(baseline), policy);
   }
   std::ostringstream s;
   s << std::fixed;
@@ -233,15 +234,15 @@ std::string MarkdownRegionTable(const std::map<std::string, std::vector<FrameRec
         s << ' ' << std::setprecision(3) << (rms ? r.rms[c] : r.mean_abs[c]) << " |";
       s << "\n";
       if (!paired.count(name)) continue;
-      const auto mine = paired[name].first.find(key);
+      const auto mine = paired[name].value.find(key);
       s << "| " << title << " | % difference, " << name << " against " << baseline
         << ", same frames | ";
-      if (mine == paired[name].first.end() || mine->second.estimated == 0) {
+      if (mine == paired[name].value.end() || mine->second.estimated == 0) {
         s << "0 | no frame both " << counted << " |||||\n";
         continue;
       }
       const RegionStats& m = mine->second;
-      const RegionStats& b = paired[name].second.at(key);
+      const RegionStats& b = paired[name].baseline.at(key);
       s << m.estimated << " |";
       for (int c = 0; c < 6; ++c) {
         s << ' ' << std::setprecision(2)

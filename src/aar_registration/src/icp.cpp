@@ -112,10 +112,15 @@ RegistrationResult Icp::Align(const std::vector<Eigen::Vector3d>& source,
       options_.max_correspondence_distance > 0.0
           ? options_.max_correspondence_distance * options_.max_correspondence_distance
           : std::numeric_limits<double>::infinity();
-  double previous_rms = std::numeric_limits<double>::infinity();
-  Eigen::Isometry3d previous_pose = guess;
   std::vector<std::pair<Eigen::Vector3d, size_t>> pairs;  // transformed source point, target index
   pairs.reserve(source.size());
+  // The iteration before: a rise in RMS returns to it without matching again.
+  double previous_rms = std::numeric_limits<double>::infinity();
+  Eigen::Isometry3d previous_pose = guess;
+  std::vector<std::pair<Eigen::Vector3d, size_t>> previous_pairs;
+  previous_pairs.reserve(source.size());
+  int previous_correspondences = 0;
+  double previous_fitness = 0.0;
 
   // Correspondences of the current transform; RMS and fitness of `result` describe it.
   auto match = [&]() {
@@ -210,7 +215,10 @@ RegistrationResult Icp::Align(const std::vector<Eigen::Vector3d>& source,
     const double improvement = previous_rms - result.rms;
     if (improvement < 0.0 && options_.stop_on_rms_rise) {
       result.T_target_source = previous_pose;
-      match();
+      pairs.swap(previous_pairs);
+      result.correspondences = previous_correspondences;
+      result.fitness = previous_fitness;
+      result.rms = previous_rms;
       result.converged = true;
       estimate_covariance();
       return result;
@@ -221,8 +229,6 @@ RegistrationResult Icp::Align(const std::vector<Eigen::Vector3d>& source,
       estimate_covariance();
       return result;
     }
-    previous_rms = result.rms;
-    previous_pose = result.T_target_source;
 
     // One step: the rigid motion (in the target frame) that best moves the pairs together.
     Eigen::Isometry3d step = Eigen::Isometry3d::Identity();
@@ -266,6 +272,11 @@ RegistrationResult Icp::Align(const std::vector<Eigen::Vector3d>& source,
                           .toRotationMatrix();
       step.translation() = x.tail<3>();
     }
+    previous_rms = result.rms;
+    previous_pose = result.T_target_source;
+    previous_pairs.swap(pairs);  // match() refills `pairs` next iteration
+    previous_correspondences = result.correspondences;
+    previous_fitness = result.fitness;
     result.T_target_source = step * result.T_target_source;
   }
   match();  // statistics of the transform returned

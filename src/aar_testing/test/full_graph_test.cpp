@@ -82,15 +82,26 @@ void ExpectEveryFrame(const PipelineRun& run, int frames) {
   EXPECT_EQ(run.estimated, frames);
 }
 
+struct NaiveAndDynamic {
+  PipelineRun naive;
+  PipelineRun dynamic;
+};
+
+// naive, then dynamic, over the same `frames` from path time `start_s`; both on every frame.
+NaiveAndDynamic RunNaiveAndDynamic(int frames, double start_s) {
+  NaiveAndDynamic runs{RunPipeline("naive", frames, start_s),
+                       RunPipeline("dynamic", frames, start_s)};
+  ExpectEveryFrame(runs.naive, frames);
+  ExpectEveryFrame(runs.dynamic, frames);
+  return runs;
+}
+
 // Near contact (region C, 37.7 to 36.9 m): with the boom's points culled and the reference
 // cut by its shadow volumes, dynamic's mean position error is 0.019 m against naive's 1.26 m.
 // Without the dynamic reference (culling_only) it is 0.037 m, without culling
 // (dynamic_reference_only) naive-like: both fail the 0.025 m bound.
 TEST(FullGraph, NearContactDynamicBeatsNaive) {
-  const PipelineRun naive = RunPipeline("naive", 20, 45.5);
-  const PipelineRun dynamic = RunPipeline("dynamic", 20, 45.5);
-  ExpectEveryFrame(naive, 20);
-  ExpectEveryFrame(dynamic, 20);
+  const auto [naive, dynamic] = RunNaiveAndDynamic(20, 45.5);
   EXPECT_LT(dynamic.mean_position_m, 0.025);  // measured 0.019 m
   EXPECT_GT(naive.mean_position_m, 1.2);      // measured 1.26 m: the boom drags naive off
 }
@@ -98,20 +109,14 @@ TEST(FullGraph, NearContactDynamicBeatsNaive) {
 // Region B (53 to 49 m): dynamic 0.052 m against naive 6.80 m. Without culling the boom's
 // points drag it off as they drag naive.
 TEST(FullGraph, RegionBDynamicBeatsNaive) {
-  const PipelineRun naive = RunPipeline("naive", 20, 24.0);
-  const PipelineRun dynamic = RunPipeline("dynamic", 20, 24.0);
-  ExpectEveryFrame(naive, 20);
-  ExpectEveryFrame(dynamic, 20);
+  const auto [naive, dynamic] = RunNaiveAndDynamic(20, 24.0);
   EXPECT_LT(dynamic.mean_position_m, 0.06);  // measured 0.052 m
   EXPECT_LT(dynamic.mean_position_m, 0.01 * naive.mean_position_m);
 }
 
 // Region A (90 to 79 m): dynamic 2.15 m against naive 32.4 m.
 TEST(FullGraph, RegionADynamicBeatsNaive) {
-  const PipelineRun naive = RunPipeline("naive", 20, 14.0);
-  const PipelineRun dynamic = RunPipeline("dynamic", 20, 14.0);
-  ExpectEveryFrame(naive, 20);
-  ExpectEveryFrame(dynamic, 20);
+  const auto [naive, dynamic] = RunNaiveAndDynamic(20, 14.0);
   EXPECT_LT(dynamic.mean_position_m, 2.3);  // measured 2.19 m (2.15 m within the whole run)
   EXPECT_LT(dynamic.mean_position_m, 0.1 * naive.mean_position_m);
 }

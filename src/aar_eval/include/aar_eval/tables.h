@@ -66,6 +66,16 @@ std::pair<std::vector<FrameRecord>, std::vector<FrameRecord>> CommonFrames(
     const std::vector<FrameRecord>& a, const std::vector<FrameRecord>& b,
     ErrorPolicy policy = ErrorPolicy::kEstimated);
 
+// The region stats of `a` and of `b` on their common frames (CommonFrames) under `policy`: what
+// every % comparison of two experiments is computed from.
+struct PairedRegionStats {
+  std::map<std::string, RegionStats> value;     // `a`'s
+  std::map<std::string, RegionStats> baseline;  // `b`'s, on the same frames
+};
+PairedRegionStats ComputePairedRegionStats(const std::vector<FrameRecord>& a,
+                                           const std::vector<FrameRecord>& b,
+                                           ErrorPolicy policy = ErrorPolicy::kEstimated);
+
 // The thesis's % difference of `value` against `baseline`: (baseline - value) / baseline * 100,
 // positive when `value` is smaller (better). NaN when the baseline is 0.
 double PercentDifference(double value, double baseline);
