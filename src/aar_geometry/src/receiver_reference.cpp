@@ -74,9 +74,18 @@ bool Occluded(RTCScene scene, RTCIntersectContext* context, const Eigen::Vector3
   return ray.tfar < 0.0f;  // Embree sets tfar to -inf when something is hit
 }
 
+// Embree (Debian builds it with assertions) aborts the process on a ray whose origin or
+// direction is beyond about 1.8e18 or whose tfar is not a number; a cloud can carry finite
+// coordinates of 1e20. Such a ray is not cast.
+bool EmbreeCanCast(const Eigen::Vector3d& origin, const Eigen::Vector3d& d, float tfar) {
+  constexpr double kLargest = 1e18;  // Embree's FLT_LARGE is 1.844e18
+  return origin.allFinite() && d.allFinite() && origin.cwiseAbs().maxCoeff() < kLargest &&
+         d.cwiseAbs().maxCoeff() < kLargest && tfar >= 0.0f;  // false for NaN too
+}
+
 // One occlusion ray per index through one intersect context: `make_ray(i, origin, direction,
 // tfar)` sets ray i and returns false to skip it. Entry i is `hit == when_hit` for a ray cast,
-// false for one skipped.
+// false for one skipped (by make_ray or as one Embree cannot cast).
 template <typename MakeRay>
 std::vector<bool> CastEach(RTCScene scene, size_t n, bool when_hit, MakeRay make_ray) {
   std::vector<bool> out(n, false);
@@ -85,7 +94,7 @@ std::vector<bool> CastEach(RTCScene scene, size_t n, bool when_hit, MakeRay make
   Eigen::Vector3d origin, direction;
   float tfar = 0.0f;
   for (size_t i = 0; i < n; ++i) {
-    if (make_ray(i, origin, direction, tfar))
+    if (make_ray(i, origin, direction, tfar) && EmbreeCanCast(origin, direction, tfar))
       out[i] = Occluded(scene, &context, origin, direction, tfar) == when_hit;
   }
   return out;

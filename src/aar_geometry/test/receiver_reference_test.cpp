@@ -33,5 +33,26 @@ TEST(ReceiverReference, ShellKeepsWhatTheEyesSee) {
   EXPECT_NEAR(static_cast<double>(corner.size()) / dense.size(), 0.5, 0.03);
 }
 
+// Finite but huge coordinates (a corrupt cloud, a pose placed by its centroid): Debian's Embree
+// asserts on such rays and aborts the process. They are not cast; the rest are.
+TEST(ReceiverReference, HugeCoordinatesAreNotCastAndDoNotAbort) {
+  const TriangleMesh cube = MakeBox({2, 2, 2});
+  const VisibilityTester tester(cube);
+  const Eigen::Vector3d eye(50, 0, 0);
+  const std::vector<Eigen::Vector3d> points = {
+      {1, 0, 0}, {1e20, 0, 0}, {0, 0, 3e38}, {-1, 0, 0}, {1e10, 1e10, 0}};
+  std::vector<Eigen::Vector3d> normals;  // facing the eye
+  for (const auto& p : points) normals.push_back((eye - p).normalized());
+  // From a sane eye the far points are cast (nothing in the way); the cube hides (-1, 0, 0).
+  EXPECT_EQ(tester.Visible(points, normals, eye, 0.005),
+            (std::vector<bool>{true, true, true, false, true}));
+  // From an eye 1e20 m away (in the receiver frame when the pose is there) nothing is cast.
+  EXPECT_EQ(tester.Visible(points, normals, Eigen::Vector3d(-1e20, 0, 0), 0.005),
+            std::vector<bool>(points.size(), false));
+  const std::vector<Eigen::Vector3d> origins = {{5, 0, 0}, {1e20, 0, 0}, {5, 0, 0}};
+  const std::vector<Eigen::Vector3d> directions = {{-1, 0, 0}, {-1, 0, 0}, {1e20, 0, 0}};
+  EXPECT_EQ(tester.RaysHit(origins, directions), (std::vector<bool>{true, false, false}));
+}
+
 }  // namespace
 }  // namespace aar_geometry

@@ -20,6 +20,8 @@ OcclusionStep::OcclusionStep(const OcclusionStepOptions& options,
                              const std::optional<aar_geometry::RobotModel>& boom,
                              std::string boom_error, const aar_geometry::TriangleMesh* receiver)
     : options_(options), boom_error_(std::move(boom_error)) {
+  if (!(options_.max_point_range > 0.0))
+    throw std::invalid_argument("OcclusionStep: max_point_range must be > 0");
   if (boom) {
     try {
       boom_ = std::make_unique<BoomOcclusion>(LoadBoomParts(*boom, options_.parts), options_.boom);
@@ -52,6 +54,22 @@ std::vector<std::string> OcclusionStep::boom_links() const {
 
 OcclusionResult OcclusionStep::Process(const OcclusionInput& in) {
   OcclusionResult r;
+  // Out-of-range points leave first: a corrupt cloud (coordinates of 1e20) would otherwise place
+  // the centroid seed, and the reference with it, 1e19 m away. `points` are the rest;
+  // `in_range[k]` is the index in in.points of points[k] when some left.
+  std::vector<size_t> in_range;
+  const double max_range2 = options_.max_point_range * options_.max_point_range;
+  for (size_t i = 0; i < in.points.size(); ++i) {
+    if ((in.points[i] - in.left_eye).squaredNorm() <= max_range2)
+      in_range.push_back(i);
+    else
+      ++r.out_of_range;
+  }
+  std::vector<Eigen::Vector3d> kept_in_range;
+  if (r.out_of_range > 0) {
+    for (const size_t i : in_range) kept_in_range.push_back(in.points[i]);
+  }
+  const std::vector<Eigen::Vector3d>& points = r.out_of_range > 0 ? kept_in_range : in.points;
   // Place the boom; without it this frame passes through unculled.
   if (!UsesBoom(in.volumes_wanted)) {
     // Nothing to do with the boom: the cloud passes through as configured.
@@ -70,15 +88,15 @@ OcclusionResult OcclusionStep::Process(const OcclusionInput& in) {
     }
   }
 
-  std::vector<bool> is_boom(in.points.size(), false);
-  if (r.boom_placed) is_boom = boom_->Cull(in.points, options_.cull);
-  for (size_t i = 0; i < in.points.size(); ++i) (is_boom[i] ? r.removed : r.kept).push_back(i);
+  std::vector<bool> is_boom(points.size(), false);
+  if (r.boom_placed) is_boom = boom_->Cull(points, options_.cull);
+  for (size_t i = 0; i < points.size(); ++i) (is_boom[i] ? r.removed : r.kept).push_back(i);
 
   if (reference_) {
     std::optional<Eigen::Isometry3d> T_tanker_receiver = in.T_tanker_receiver_predicted;
     if (!T_tanker_receiver && !r.kept.empty()) {
       std::vector<Eigen::Vector3d> kept_points;
-      for (const size_t i : r.kept) kept_points.push_back(in.points[i]);
+      for (const size_t i : r.kept) kept_points.push_back(points[i]);
       T_tanker_receiver = aar_geometry::CentroidSeed(kept_points, {Eigen::Vector3d::Zero()});
     }
     try {
@@ -91,6 +109,11 @@ OcclusionResult OcclusionStep::Process(const OcclusionInput& in) {
     } catch (const std::exception& e) {
       r.reference_error = e.what();
       r.reference = DynamicReferenceResult{};
+    }
+  }
+  if (r.out_of_range > 0) {  // indices into in.points, as promised
+    for (auto* indices : {&r.kept, &r.removed}) {
+      for (size_t& i : *indices) i = in_range[i];
     }
   }
   return r;

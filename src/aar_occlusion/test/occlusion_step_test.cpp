@@ -99,6 +99,36 @@ TEST(OcclusionStep, WithoutTheBoomFramesPassThroughAndSayWhy) {
   EXPECT_EQ(none.reference_error, "no predicted pose: no estimate, no points");
 }
 
+// A corrupt cloud: finite coordinates of 1e20 and 3e38 among the real points. They leave before
+// anything else (they would put the centroid seed 1e19 m away); the rest is culled as before,
+// the indices still into the input.
+TEST(OcclusionStep, PointsBeyondMaxPointRangeAreDropped) {
+  Scene s;
+  OcclusionStep step(OcclusionStepOptions{}, s.boom, "", &s.receiver);
+  OcclusionInput corrupt = s.input;
+  std::vector<size_t> absurd;
+  for (size_t i = 5; i < corrupt.points.size(); i += 10) {
+    corrupt.points[i].z() = absurd.size() % 2 ? 3e38 : 1e20;
+    absurd.push_back(i);
+  }
+  const OcclusionResult r = step.Process(corrupt);
+  EXPECT_EQ(r.out_of_range, absurd.size());
+  EXPECT_EQ(r.kept.size() + r.removed.size() + absurd.size(), corrupt.points.size());
+  for (const auto* indices : {&r.kept, &r.removed}) {
+    for (const size_t i : *indices) EXPECT_LT(corrupt.points[i].norm(), 1000.0) << i;
+  }
+  size_t boom_removed = 0;
+  for (const size_t i : r.removed) boom_removed += i < s.boom_points;
+  EXPECT_EQ(boom_removed, s.boom_points - (s.boom_points - 5 + 9) / 10);  // all the real ones
+  ASSERT_TRUE(r.has_reference) << r.reference_error;
+  // The centroid seed of the real points: within metres of the truth.
+  EXPECT_LT((r.T_tanker_receiver.translation() - s.T_tanker_receiver.translation()).norm(), 3.0);
+
+  OcclusionStepOptions bad;
+  bad.max_point_range = 0.0;
+  EXPECT_THROW(OcclusionStep(bad, s.boom, "", &s.receiver), std::invalid_argument);
+}
+
 TEST(OcclusionStep, NothingToDoWhenCullingAndTheReferenceAreOff) {
   Scene s;
   OcclusionStepOptions options;

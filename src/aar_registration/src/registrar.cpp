@@ -16,6 +16,9 @@ Registrar::Registrar(const RegistrarOptions& options)
   if (options.max_sensed_points != 0 && options.max_sensed_points < options.icp.min_correspondences)
     throw std::invalid_argument(
         "max_sensed_points must be 0 (all) or at least min_correspondences");
+  if (options.max_cloud_points != 0 && options.max_cloud_points < options.icp.min_correspondences)
+    throw std::invalid_argument(
+        "max_cloud_points must be 0 (no bound) or at least min_correspondences");
   if (!(options.gate.min_fitness >= 0.0 && options.gate.min_fitness <= 1.0) ||
       !(options.gate.max_rms > 0.0))
     throw std::invalid_argument("gate: min_fitness must be in [0, 1] and max_rms > 0");
@@ -94,11 +97,18 @@ RegistrarResult Registrar::Register(const std::vector<Eigen::Vector3d>& all_sens
   out.reference_points = reference_points_.size();
   const std::vector<Eigen::Vector3d>* sensed = &all_sensed;
   std::vector<Eigen::Vector3d> subset;
-  if (options_.max_sensed_points > 0 &&
-      all_sensed.size() > static_cast<size_t>(options_.max_sensed_points)) {
-    subset.reserve(options_.max_sensed_points);
-    std::sample(all_sensed.begin(), all_sensed.end(), std::back_inserter(subset),
-                options_.max_sensed_points, std::mt19937(options_.subsample_seed));
+  size_t limit = all_sensed.size();
+  if (options_.max_sensed_points > 0)
+    limit = std::min(limit, static_cast<size_t>(options_.max_sensed_points));
+  if (options_.max_cloud_points > 0 &&
+      all_sensed.size() > static_cast<size_t>(options_.max_cloud_points)) {
+    limit = std::min(limit, static_cast<size_t>(options_.max_cloud_points));
+    out.cut_from_points = all_sensed.size();
+  }
+  if (limit < all_sensed.size()) {
+    subset.reserve(limit);
+    std::sample(all_sensed.begin(), all_sensed.end(), std::back_inserter(subset), limit,
+                std::mt19937(options_.subsample_seed));
     sensed = &subset;
   }
   out.sensed_points = sensed->size();

@@ -66,6 +66,33 @@ TEST(Registrar, StaticReferenceFromTheCentroidSeed) {
   EXPECT_GT(seen, dense / 5);
 }
 
+// A cloud beyond max_cloud_points (2 million points once kept the node busy for 70 s) is
+// registered as a random subset of that size, and says so; below it every point is used.
+TEST(Registrar, BoundsTheWorkOfAHugeCloud) {
+  RegistrarOptions options;
+  options.reference = ReferenceKind::kDense;
+  options.max_cloud_points = 1000;
+  Registrar registrar(options);
+  registrar.BuildStaticReference(Receiver(), {});
+  const Frame f;  // about 8,000 points
+  ASSERT_GT(f.sensed.size(), 5000u);
+  const RegistrarResult r = registrar.Register(f.sensed, 10.0);
+  ASSERT_TRUE(r.valid) << r.error;
+  EXPECT_EQ(r.sensed_points, 1000u);
+  EXPECT_EQ(r.cut_from_points, f.sensed.size());
+  EXPECT_LT((r.T_tanker_receiver.translation() - f.T_tanker_receiver.translation()).norm(), 0.05);
+  const std::vector<Eigen::Vector3d> small(f.sensed.begin(), f.sensed.begin() + 1000);
+  const RegistrarResult all = registrar.Register(small, 10.1);
+  EXPECT_EQ(all.sensed_points, 1000u);
+  EXPECT_EQ(all.cut_from_points, 0u);
+  // The default bounds the work too; 0 lifts the bound.
+  EXPECT_GT(RegistrarOptions{}.max_cloud_points, 0);
+  options.max_cloud_points = 0;
+  Registrar unbounded(options);
+  unbounded.BuildStaticReference(Receiver(), {});
+  EXPECT_EQ(unbounded.Register(f.sensed, 10.0).sensed_points, f.sensed.size());
+}
+
 TEST(Registrar, MissesSayWhy) {
   RegistrarOptions options;
   options.reference = ReferenceKind::kTopic;
@@ -273,6 +300,9 @@ TEST(Registrar, RefusesOptionsThatCannotWork) {
   EXPECT_THROW(Registrar{options}, std::invalid_argument);
   options = {};
   options.max_sensed_points = 3;
+  EXPECT_THROW(Registrar{options}, std::invalid_argument);
+  options = {};
+  options.max_cloud_points = 3;
   EXPECT_THROW(Registrar{options}, std::invalid_argument);
   options = {};
   options.gate.min_fitness = 1.5;

@@ -268,6 +268,21 @@ TEST(Occlusion, CullsTheBoomAndBuildsTheReference) {
   graph.cloud_pub().publish(nan);
   EXPECT_TRUE(out.Await(nan.header.stamp));
   EXPECT_EQ(out.filtered.by_stamp.at(nan.header.stamp)->width, 0u);  // nothing finite
+  // Finite but absurd coordinates (every 10th point at z = 1e20, every 10th after it at 3e38)
+  // once aborted the node inside Embree: now they are dropped and the rest culled.
+  auto huge = ToCloud(scene, graph.rig().T_tanker_left_optical.inverse(), ros::Time::now());
+  size_t absurd = 0;
+  for (size_t i = 0; i + 1 < huge.width; i += 10, absurd += 2) {
+    const float z[2] = {1e20f, 3e38f};
+    std::memcpy(&huge.data[16 * i + 8], &z[0], 4);
+    std::memcpy(&huge.data[16 * (i + 1) + 8], &z[1], 4);
+  }
+  graph.cloud_pub().publish(huge);
+  ASSERT_TRUE(out.Await(huge.header.stamp));
+  EXPECT_EQ(out.filtered.by_stamp.at(huge.header.stamp)->width +
+                out.boom.by_stamp.at(huge.header.stamp)->width,
+            scene.points.size() - absurd);
+  EXPECT_GT(out.boom.by_stamp.at(huge.header.stamp)->width, removed.size() * 3 / 4);
   const ros::Time last = ros::Time::now();
   graph.cloud_pub().publish(ToCloud(scene, graph.rig().T_tanker_left_optical.inverse(), last));
   ASSERT_TRUE(out.Await(last));

@@ -122,6 +122,8 @@ TEST(BadInput, ErrorsNamedNoEstimateNodeAlive) {
   ros::Publisher clouds = nh.advertise<sensor_msgs::PointCloud2>("/points", 5);
   aar_testing::LoggedErrors errors(nh, "/registration");
   aar_testing::StampedCollector<aar_msgs::PoseEstimate> estimates(nh, "/aar/pose_estimate");
+  tf2_ros::Buffer tf_buffer;  // listening from the start: the estimate's tf is sent once
+  tf2_ros::TransformListener tf_listener(tf_buffer);
   tf2_ros::StaticTransformBroadcaster static_tf;
   static_tf.sendTransform(SensorMount());
   aar_testing::WaitFor([&] { return clouds.getNumSubscribers() > 0 && errors.Connected(); }, 30.0);
@@ -142,6 +144,17 @@ TEST(BadInput, ErrorsNamedNoEstimateNodeAlive) {
                      4);  // not a whole number of points: once read past the end
   clouds.publish(ragged);
   EXPECT_TRUE(logged("cloud is malformed"));
+  // Stamps no clock gives: 0, and 1e6 s ahead (its pose on tf would make every later estimate
+  // TF_OLD_DATA for every listener).
+  const std::vector<Eigen::Vector3f> shape = ReceiverShape();
+  sensor_msgs::PointCloud2 zero = Cloud("sensor", shape);
+  zero.header.stamp = ros::Time(0);
+  clouds.publish(zero);
+  EXPECT_TRUE(logged("the cloud's stamp is 0"));
+  sensor_msgs::PointCloud2 future = Cloud("sensor", shape);
+  future.header.stamp += ros::Duration(1e6);
+  clouds.publish(future);
+  EXPECT_TRUE(logged("s ahead of the clock"));
   {
     std::lock_guard<std::mutex> lock(estimates.mutex);  // only "no pose" replies, for lockstep
     for (const auto& [stamp, e] : estimates.by_stamp)
@@ -149,15 +162,92 @@ TEST(BadInput, ErrorsNamedNoEstimateNodeAlive) {
   }
   const size_t invalid = estimates.size();
 
-  // Alive: a cloud of the receiver's shape 35 m aft gives an estimate near there.
-  const std::vector<Eigen::Vector3f> shape = ReceiverShape();
-  clouds.publish(Cloud("sensor", shape));
+  // Alive: a cloud of the receiver's shape 35 m aft gives an estimate near there, on tf too.
+  const sensor_msgs::PointCloud2 good_cloud = Cloud("sensor", shape);
+  clouds.publish(good_cloud);
   aar_testing::WaitFor([&] { return estimates.size() > invalid; }, 10.0);
   ASSERT_EQ(estimates.size(), invalid + 1);
-  std::lock_guard<std::mutex> lock(estimates.mutex);
-  const auto& good = estimates.by_stamp.rbegin()->second;
-  EXPECT_TRUE(good->valid);
-  EXPECT_NEAR(good->pose.position.x, -35.0, 5.0);
+  {
+    std::lock_guard<std::mutex> lock(estimates.mutex);
+    const auto& good = estimates.by_stamp.at(good_cloud.header.stamp);
+    EXPECT_TRUE(good->valid);
+    EXPECT_NEAR(good->pose.position.x, -35.0, 5.0);
+  }
+  EXPECT_TRUE(
+      tf_buffer.canTransform("tanker", "receiver", good_cloud.header.stamp, ros::Duration(5.0)));
+
+  // A cloud beyond max_cloud_points (50,000) is registered as a subset of that size, with a
+  // warning: 2 million points once kept the node busy for 70 s, saying nothing.
+  aar_testing::LoggedErrors warnings(nh, "/registration", 4);  // 4: WARN
+  aar_testing::WaitFor([&] { return warnings.Connected(); }, 10.0);
+  std::vector<Eigen::Vector3f> many;
+  while (many.size() < 60000) many.insert(many.end(), shape.begin(), shape.end());
+  const sensor_msgs::PointCloud2 big = Cloud("sensor", many);
+  clouds.publish(big);
+  EXPECT_TRUE(warnings.Wait("registered a random 50000 of them (max_cloud_points)", 30.0));
+  EXPECT_TRUE(aar_testing::WaitFor(
+      [&] {
+        std::lock_guard<std::mutex> lock(estimates.mutex);
+        return estimates.by_stamp.count(big.header.stamp) &&
+               estimates.by_stamp.at(big.header.stamp)->valid;
+      },
+      30.0));
+}
+
+// Start-up order: the default shelled reference needs the cameras' tf. Without it the node once
+// exited FATAL after 10 s (ending a launch that requires it); now it waits, says so, answers
+// each cloud with no estimate, and builds the reference once the tf comes.
+TEST(StartUp, WaitsForTheCameraTfThenEstimates) {
+  ros::NodeHandle nh;
+  ros::Publisher clouds = nh.advertise<sensor_msgs::PointCloud2>("/points", 5);
+  aar_testing::LoggedErrors warnings(nh, "/registration", 4);  // 4: WARN
+  aar_testing::StampedCollector<aar_msgs::PoseEstimate> estimates(nh, "/aar/pose_estimate");
+  aar_testing::WaitFor([&] { return clouds.getNumSubscribers() > 0 && warnings.Connected(); },
+                       30.0);
+  ASSERT_GT(clouds.getNumSubscribers(), 0u);
+  EXPECT_TRUE(warnings.Wait("needed to shell the reference model", 15.0));
+  ros::WallDuration(8.0).sleep();  // past the 10 s that once ended the node
+  const std::vector<Eigen::Vector3f> shape = ReceiverShape();
+  const sensor_msgs::PointCloud2 early = Cloud("sensor", shape);
+  clouds.publish(early);
+  ASSERT_TRUE(aar_testing::WaitFor(
+      [&] {
+        std::lock_guard<std::mutex> lock(estimates.mutex);
+        return estimates.by_stamp.count(early.header.stamp) > 0;
+      },
+      10.0))
+      << "the node is gone or silent";
+  {
+    std::lock_guard<std::mutex> lock(estimates.mutex);
+    EXPECT_FALSE(estimates.by_stamp.at(early.header.stamp)->valid);
+  }
+  // The cameras 15 m ahead of "sensor", looking aft: the tf comes, the reference follows.
+  tf2_ros::StaticTransformBroadcaster static_tf;
+  std::vector<geometry_msgs::TransformStamped> mounts = {SensorMount()};
+  for (const auto& [frame, y] : {std::make_pair("stereo_left_optical", -0.25),
+                                 std::make_pair("stereo_right_optical", 0.25)}) {
+    geometry_msgs::TransformStamped m;
+    m.header.frame_id = "tanker";
+    m.child_frame_id = frame;
+    m.transform.translation.x = -20.0;
+    m.transform.translation.y = y;
+    m.transform.translation.z = -3.0;
+    m.transform.rotation.w = 1.0;
+    mounts.push_back(m);
+  }
+  static_tf.sendTransform(mounts);
+  ros::Time stamp;
+  EXPECT_TRUE(aar_testing::WaitFor(
+      [&] {
+        const sensor_msgs::PointCloud2 cloud = Cloud("sensor", shape);
+        clouds.publish(cloud);
+        ros::WallDuration(1.0).sleep();
+        std::lock_guard<std::mutex> lock(estimates.mutex);
+        const auto it = estimates.by_stamp.find(cloud.header.stamp);
+        return it != estimates.by_stamp.end() && it->second->valid;
+      },
+      30.0))
+      << "no estimate after the cameras' tf came";
 }
 
 // reference: topic: each cloud is registered to the reference of its own stamp, to the points

@@ -28,6 +28,9 @@ struct OcclusionStepOptions {
     return o;
   }();
   DynamicReferenceOptions reference;
+  // [m] points farther than this from the left eye are no measurement (the stereo stage cuts at
+  // 750 m, as the thesis): dropped from the cloud before anything else sees them.
+  double max_point_range = 1000.0;
 };
 
 // What the ROS layer gathered for one sensed cloud, all in the tanker frame.
@@ -47,6 +50,7 @@ struct OcclusionInput {
 
 struct OcclusionResult {
   std::vector<size_t> kept, removed;  // indices into OcclusionInput::points
+  size_t out_of_range = 0;            // points in neither: beyond max_point_range (or not finite)
   bool boom_placed = false;           // the volumes are this frame's (culled as configured)
   bool volumes_rebuilt = false;       // the boom or an eye moved: the volumes changed
   std::string cull_error;             // why the frame passes through unculled; empty if it did not

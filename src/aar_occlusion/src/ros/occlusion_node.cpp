@@ -31,11 +31,13 @@ OcclusionNodeOptions LoadOcclusionNodeOptions(const ros::NodeHandle& nh) {
   // Sampling does not cast rays here: the tolerance is the dynamic reference's self-occlusion.
   step.reference.visibility_tolerance = step.sampling.visibility_tolerance;
   step.reference.reshell_distance = params.Get("reshell_distance", step.reference.reshell_distance);
+  step.max_point_range = params.Get("max_point_range", step.max_point_range);
+  params.Check(step.max_point_range > 0.0, "max_point_range", "must be > 0");
   o.frames = aar_ros_common::LoadStackFrames(params);
-  o.tf_timeout = params.Get("tf_timeout", o.tf_timeout);
+  o.tf_timeout = params.GetNonNegative("tf_timeout", o.tf_timeout);
   o.estimate_max_age = params.Get("estimate_max_age", o.estimate_max_age);
   o.marker_length = params.Get("marker_length", o.marker_length);
-  o.estimate_wait = params.Get("estimate_wait", o.estimate_wait);
+  o.estimate_wait = params.GetNonNegative("estimate_wait", o.estimate_wait);
   o.extrapolate_estimate = params.Get("extrapolate_estimate", o.extrapolate_estimate);
   o.diagnostic_period = params.Get("diagnostic_period", o.diagnostic_period);
   if (!(o.diagnostic_period > 0.0)) throw std::invalid_argument("~diagnostic_period must be > 0");
@@ -156,6 +158,12 @@ void OcclusionNode::OnCloud(const sensor_msgs::PointCloud2::ConstPtr& msg) {
       in.T_tanker_receiver_predicted = PredictedPose(msg->header.stamp);
 
     result = step_->Process(in);
+    if (result.out_of_range > 0) {
+      ROS_WARN_STREAM_THROTTLE(
+          5.0, "occlusion: " << result.out_of_range << " of " << in.points.size() << " points at "
+                             << msg->header.stamp << " beyond max_point_range "
+                             << options_.step.max_point_range << " m of the left camera: dropped");
+    }
     error = result.cull_error;
     reference_error = result.reference_error;
     markers_stale_ |= result.volumes_rebuilt;

@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <set>
+#include <sstream>
 
 #include <aar_geometry/mesh_io.h>
 #include <aar_geometry/pose.h>
@@ -55,6 +56,8 @@ RegistrationNodeOptions LoadRegistrationNodeOptions(const ros::NodeHandle& nh) {
                                        {"prediction", SeedMode::kPrediction}});
   r.previous_max_age = params.Get("previous_max_age", r.previous_max_age);
   r.max_sensed_points = params.Get("max_sensed_points", r.max_sensed_points);
+  r.max_cloud_points = params.Get("max_cloud_points", r.max_cloud_points);
+  params.Check(r.max_cloud_points >= 0, "max_cloud_points", "must be >= 0 (0: no bound)");
   r.subsample_seed =
       static_cast<unsigned>(params.Get("subsample_seed", static_cast<int>(r.subsample_seed)));
   r.track = params.Get("track", r.track);
@@ -72,8 +75,9 @@ RegistrationNodeOptions LoadRegistrationNodeOptions(const ros::NodeHandle& nh) {
   t.max_coast_s = params.Get("max_coast", t.max_coast_s);
   o.frames = aar_ros_common::LoadStackFrames(params);
   o.truth_frame = params.Get("truth_frame", o.truth_frame);
-  o.tf_timeout = params.Get("tf_timeout", o.tf_timeout);
-  o.reference_timeout = params.Get("reference_timeout", o.reference_timeout);
+  o.tf_timeout = params.GetNonNegative("tf_timeout", o.tf_timeout);
+  o.reference_timeout = params.GetNonNegative("reference_timeout", o.reference_timeout);
+  o.max_stamp_lead = params.GetNonNegative("max_stamp_lead", o.max_stamp_lead);
   o.diagnostic_period = params.Get("diagnostic_period", o.diagnostic_period);
   params.Check(o.diagnostic_period > 0.0, "diagnostic_period", "must be > 0");
 
@@ -108,7 +112,21 @@ RegistrationNode::RegistrationNode(ros::NodeHandle nh, ros::NodeHandle private_n
     pending_timer_ =
         nh_.createWallTimer(ros::WallDuration(0.1), &RegistrationNode::ExpirePending, this);
   } else {
-    BuildStaticReference();
+    // A mesh that does not load ends the node: a configuration error.
+    receiver_mesh_ = aar_geometry::LoadMesh(options_.receiver_mesh);
+    // The cameras' tf may come later (start-up order): frames until then get no estimate.
+    reference_wait_since_ = ros::WallTime::now();
+    if (!TryBuildStaticReference(2.0)) {
+      reference_timer_ =
+          nh_.createWallTimer(ros::WallDuration(1.0), [this](const ros::WallTimerEvent&) {
+            try {
+              if (TryBuildStaticReference(0.0)) reference_timer_.stop();
+            } catch (const std::exception& e) {  // stays up: the frames say why, no estimate
+              ROS_ERROR_STREAM("registration: no reference model: " << e.what());
+              reference_timer_.stop();
+            }
+          });
+    }
     cloud_sub_ = nh_.subscribe("points", 2, &RegistrationNode::OnCloud, this);
   }
 }
@@ -116,31 +134,59 @@ RegistrationNode::RegistrationNode(ros::NodeHandle nh, ros::NodeHandle private_n
 RegistrationNode::~RegistrationNode() {
   diagnostics_timer_.stop();  // it reads members destroyed before it
   pending_timer_.stop();
+  reference_timer_.stop();
   cloud_sub_.shutdown();
   points_filter_.unsubscribe();
   reference_filter_.unsubscribe();
 }
 
-void RegistrationNode::BuildStaticReference() {
+bool RegistrationNode::TryBuildStaticReference(double tf_wait) {
   const auto start = std::chrono::steady_clock::now();
-  const aar_geometry::TriangleMesh mesh = aar_geometry::LoadMesh(options_.receiver_mesh);
   // The camera positions, for shelling as they see the receiver at the nominal pose.
   std::vector<Eigen::Vector3d> eyes;
   if (options_.registrar.reference != ReferenceKind::kDense) {
     for (const auto& frame : {options_.frames.left_camera, options_.frames.right_camera}) {
       std::string error;
       const auto T_tanker_camera = aar_ros_common::LookupTransform(
-          tf_buffer_, options_.frames.tanker, frame, ros::Time(0), 10.0, "any time", &error);
-      if (!T_tanker_camera)
-        throw std::runtime_error(error + ", needed to shell the reference model");
+          tf_buffer_, options_.frames.tanker, frame, ros::Time(0), tf_wait, "any time", &error);
+      if (!T_tanker_camera) {
+        const double waited = (ros::WallTime::now() - reference_wait_since_).toSec();
+        if (waited >= 5.0) {
+          ROS_WARN_STREAM_THROTTLE(10.0, "registration: waited "
+                                             << static_cast<int>(waited) << " s: " << error
+                                             << ", needed to shell the reference model; frames "
+                                                "until then have no estimate");
+        }
+        return false;
+      }
       eyes.push_back(T_tanker_camera->translation());
     }
   }
-  const size_t size = registrar_.BuildStaticReference(mesh, eyes);
+  size_t size = 0;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    size = registrar_.BuildStaticReference(receiver_mesh_, eyes);
+  }
+  receiver_mesh_ = aar_geometry::TriangleMesh();  // not needed again
   ROS_INFO_STREAM("registration: reference model of "
                   << size << " points built in "
                   << std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()
                   << " s");
+  return true;
+}
+
+std::string RegistrationNode::StampProblem(const ros::Time& stamp) const {
+  if (stamp.isZero()) return "the cloud's stamp is 0";
+  const ros::Time now = ros::Time::now();
+  // Under sim time the clock is 0 until the first /clock: nothing to compare with yet.
+  if (!now.isZero() && (stamp - now).toSec() > options_.max_stamp_lead) {
+    std::ostringstream s;
+    s << "the cloud's stamp " << stamp << " is " << (stamp - now).toSec()
+      << " s ahead of the clock (" << now << "; max_stamp_lead " << options_.max_stamp_lead
+      << " s)";
+    return s.str();
+  }
+  return "";
 }
 
 void RegistrationNode::OnPointsSeen(const sensor_msgs::PointCloud2::ConstPtr& msg) {
@@ -207,6 +253,8 @@ void RegistrationNode::Register(const sensor_msgs::PointCloud2::ConstPtr& msg) {
   };
   RegistrarResult result;
   try {
+    if (const std::string problem = StampProblem(msg->header.stamp); !problem.empty())
+      throw std::runtime_error(problem);
     // The registrar says so too, but only after the tf wait this saves.
     if (!registrar_.has_reference()) throw std::runtime_error("no reference model yet");
     std::string error;
@@ -217,6 +265,12 @@ void RegistrationNode::Register(const sensor_msgs::PointCloud2::ConstPtr& msg) {
     std::vector<Eigen::Vector3d> sensed = aar_ros_common::FromCloud(*msg).points;
     for (auto& p : sensed) p = *T_tanker_cloud * p;
     result = registrar_.Register(sensed, msg->header.stamp.toSec());
+    if (result.cut_from_points > 0) {
+      ROS_WARN_STREAM_THROTTLE(5.0, "registration: a cloud of "
+                                        << result.cut_from_points << " points at "
+                                        << msg->header.stamp << ": registered a random "
+                                        << result.sensed_points << " of them (max_cloud_points)");
+    }
   } catch (const std::exception& e) {
     result.error = e.what();
   }

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <cmath>
 #include <set>
 #include <stdexcept>
 #include <string>
@@ -24,6 +25,16 @@ class ParamReader {
     T value = fallback;
     if (nh_.hasParam(name) && !nh_.getParam(name, value))
       throw std::invalid_argument("parameter " + nh_.resolveName(name) + " has the wrong type");
+    return value;
+  }
+
+  // A time, distance or count that must be finite and >= 0 (a NaN or negative timeout would
+  // wait forever or not at all). Throws std::invalid_argument naming the key and the value.
+  double GetNonNegative(const std::string& name, double fallback) {
+    const double value = Get(name, fallback);
+    if (!(value >= 0.0 && std::isfinite(value)))
+      throw std::invalid_argument("parameter " + nh_.resolveName(name) +
+                                  " must be a finite number >= 0, not " + std::to_string(value));
     return value;
   }
 

@@ -30,9 +30,9 @@ StereoNodeOptions LoadStereoNodeOptions(const ros::NodeHandle& nh) {
   roi.include_boom = params.Get("roi_include_boom", roi.include_boom);
   roi.estimate_max_age = params.Get("estimate_max_age", roi.estimate_max_age);
   params.Check(roi.estimate_max_age > 0.0, "estimate_max_age", "must be > 0 [s]");
-  roi.estimate_wait = params.Get("estimate_wait", roi.estimate_wait);
+  roi.estimate_wait = params.GetNonNegative("estimate_wait", roi.estimate_wait);
   params.Check(roi.estimate_wait >= 0.0, "estimate_wait", "must be >= 0 [s]");
-  roi.tf_timeout = params.Get("tf_timeout", roi.tf_timeout);
+  roi.tf_timeout = params.GetNonNegative("tf_timeout", roi.tf_timeout);
   params.Check(roi.tf_timeout >= 0.0, "tf_timeout", "must be >= 0 [s]");
   roi.robot_description = params.Get("robot_description", roi.robot_description);
   roi.receiver_mesh = aar_ros_common::LoadReceiverMesh(params);

@@ -7,6 +7,7 @@
 #include <set>
 #include <string>
 
+#include <aar_geometry/triangle_mesh.h>
 #include <aar_ros_common/error_throttle.h>
 #include <aar_ros_common/frames.h>
 #include <diagnostic_updater/diagnostic_updater.h>
@@ -31,6 +32,9 @@ struct RegistrationNodeOptions {
   // [s wall] reference: topic: a cloud without a reference of its stamp this long is answered
   // with an invalid estimate.
   double reference_timeout = 2.0;
+  // [s] a cloud stamped further ahead of the node's clock is refused: its pose on tf would make
+  // every later tanker -> receiver transform TF_OLD_DATA. Stamp 0 is refused too.
+  double max_stamp_lead = 1.0;
   double diagnostic_period = 1.0;  // [s wall] /diagnostics
 };
 
@@ -56,7 +60,11 @@ class RegistrationNode {
   void ExpirePending(const ros::WallTimerEvent&);
   void Publish(const RegistrarResult& result, const ros::Time& stamp, double total_ms);
   void PublishModels();
-  void BuildStaticReference();
+  // Shells the static reference once the cameras' tf is there (waiting up to `tf_wait` [s]):
+  // true when built. Until then the frames have no estimate and a timer tries again.
+  bool TryBuildStaticReference(double tf_wait);
+  // The reason a cloud's stamp is refused (empty if it is not).
+  std::string StampProblem(const ros::Time& stamp) const;
   void ReportError(const std::string& what);
   void Diagnose(diagnostic_updater::DiagnosticStatusWrapper& status);
 
@@ -72,6 +80,9 @@ class RegistrationNode {
   message_filters::Subscriber<sensor_msgs::PointCloud2> points_filter_, reference_filter_;
   std::unique_ptr<Sync> sync_;
   ros::WallTimer pending_timer_;
+  ros::WallTimer reference_timer_;  // retries TryBuildStaticReference
+  ros::WallTime reference_wait_since_;
+  aar_geometry::TriangleMesh receiver_mesh_;  // for the static reference
   std::mutex pending_mutex_;
   std::map<ros::Time, ros::WallTime> pending_;  // clouds waiting for their reference
   std::set<ros::Time> answered_;                // recent stamps already answered
