@@ -2,6 +2,7 @@
 
 #include <filesystem>
 #include <functional>
+#include <limits>
 
 #include <ros/ros.h>
 
@@ -34,6 +35,23 @@ TEST(ParamReader, ReadsDefaultsAndRefusesTheWrongType) {
       << missing;
   const std::string rule = ErrorOf([&] { params.Check(false, "rate", "must be positive"); });
   EXPECT_EQ(rule, "parameter /param_reader/rate must be positive");
+}
+
+// Timeouts: a negative or NaN one would wait forever or not at all; it is refused by name.
+TEST(ParamReader, NonNegativeRefusesNegativeAndNan) {
+  ros::NodeHandle nh("/timeouts");  // not under ~: the other tests read every key there
+  nh.setParam("negative", -1.0);
+  nh.setParam("nan", std::numeric_limits<double>::quiet_NaN());
+  nh.setParam("fine", 0.5);
+  ParamReader params(nh);
+  EXPECT_EQ(params.GetNonNegative("fine", 1.0), 0.5);
+  EXPECT_EQ(params.GetNonNegative("unset", 1.0), 1.0);
+  const std::string negative = ErrorOf([&] { params.GetNonNegative("negative", 1.0); });
+  EXPECT_NE(negative.find("/timeouts/negative must be a finite number >= 0, not -1"),
+            std::string::npos)
+      << negative;
+  const std::string nan = ErrorOf([&] { params.GetNonNegative("nan", 1.0); });
+  EXPECT_NE(nan.find("/timeouts/nan must be a finite number >= 0"), std::string::npos) << nan;
 }
 
 TEST(ParamReader, RejectsKeysNobodyRead) {
