@@ -12,13 +12,12 @@
 #include <tf2_eigen/tf2_eigen.h>
 #include <tf2_ros/static_transform_broadcaster.h>
 #include <tf2_ros/transform_listener.h>
+#include "aar_testing/command.h"
 #include "aar_testing/logged_errors.h"
 #include "aar_testing/paths.h"
 #include "aar_testing/stamped_collector.h"
 #include "aar_testing/wait.h"
 
-#include <cstdlib>
-#include <fstream>
 #include <limits>
 
 namespace {
@@ -421,16 +420,11 @@ TEST(Tracking, CoastsLosesReacquiresAndResetsOnStampsGoingBack) {
 }
 
 TEST(BadInput, MissingReferenceMeshExitsNamingIt) {
-  const std::string log = "/tmp/aar_registration_bad_mesh.log";
-  const int status = std::system(
-      ("timeout 30 " + std::string("rosrun aar_registration registration_node") +
-       " __name:=bad_mesh _reference:=dense _receiver_mesh:=/nonexistent/receiver.obj > " + log +
-       " 2>&1")
-          .c_str());
-  std::ifstream in(log);
-  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 1) << text;
-  EXPECT_NE(text.find("/nonexistent/receiver.obj"), std::string::npos) << text;
+  const auto r = aar_testing::RunCommand(
+      "timeout 30 rosrun aar_registration registration_node __name:=bad_mesh _reference:=dense "
+      "_receiver_mesh:=/nonexistent/receiver.obj");
+  EXPECT_EQ(r.status, 1) << r.output;
+  EXPECT_NE(r.output.find("/nonexistent/receiver.obj"), std::string::npos) << r.output;
 }
 
 }  // namespace

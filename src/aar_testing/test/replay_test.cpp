@@ -4,37 +4,19 @@
 
 #include <unistd.h>
 
-#include <array>
-#include <chrono>
-#include <cstdio>
 #include <filesystem>
-#include <memory>
 #include <regex>
 #include <string>
 
+#include "aar_testing/command.h"
 #include "aar_testing/paths.h"
 
 namespace {
 
 const std::string kRoot = aar_testing::WorkspaceRoot();
 
-struct Result {
-  int status = -1;
-  std::string output;
-  double seconds = 0.0;
-};
-
-Result Sh(const std::string& command) {
-  const auto start = std::chrono::steady_clock::now();
-  Result r;
-  std::unique_ptr<FILE, int (*)(FILE*)> pipe(popen((command + " 2>&1").c_str(), "r"), pclose);
-  std::array<char, 4096> buffer;
-  while (fgets(buffer.data(), buffer.size(), pipe.get())) r.output += buffer.data();
-  const int status = pclose(pipe.release());
-  r.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  return r;
-}
+using Result = aar_testing::CommandResult;
+const auto Sh = aar_testing::RunCommand;
 
 std::string Replay(const std::string& bag, const std::string& out) {
   return "timeout 300 " + kRoot + "/scripts/replay --no-build " + bag + " --out " + out;

@@ -15,6 +15,7 @@
 #include <stereo_msgs/DisparityImage.h>
 #include <tf2_ros/buffer.h>
 #include <tf2_ros/transform_listener.h>
+#include "aar_testing/command.h"
 #include "aar_testing/logged_errors.h"
 #include "aar_testing/stamped_collector.h"
 #include "aar_testing/wait.h"
@@ -206,6 +207,41 @@ TEST(BadInput, ErrorsAreNamedFramesSkippedNodeAlive) {
   ASSERT_EQ(f.points.size(), 1u) << "no cloud for a good frame after the bad ones";
   std::lock_guard<std::mutex> lock(f.points.mutex);
   EXPECT_GT(f.points.by_stamp.at(good)->width, 100u);
+}
+
+// Settings dynamic_reconfigure would quietly clamp or replace (matcher 5 became SGBM, decimation 7
+// a voxel grid, block_size 'abc' 9, -9 5, 9.5 11, keep_every 0 1) end the node, named.
+TEST(BadInput, InvalidSettingsAreRefusedByName) {
+  const struct {
+    std::string arg, needle;
+  } cases[] = {
+      {"_matcher:=5", "matcher must be in [0, 1], not 5"},
+      {"_decimation:=7", "decimation must be in [0, 2], not 7"},
+      {"_block_size:=abc", "block_size must be of type int"},
+      {"_block_size:=-9", "block_size must be in [1, 255], not -9"},
+      {"_block_size:=9.5", "block_size must be of type int"},
+      {"_block_size:=8", "block_size must be odd"},
+      {"_block_size:=3", "block_size must be at least 5 for block matching"},
+      {"_keep_every:=0", "keep_every must be in [1, 1000], not 0"},
+      {"_num_disparities:=50", "num_disparities must be a multiple of 16"},
+      {"_max_range:=-1.0", "max_range must be in [1, 10000], not -1"},
+      {"_organized:=true", "organized needs decimation none"},
+  };
+  int i = 0;
+  for (const auto& c : cases) {
+    // A name each: a private parameter stays on the master after its node is gone.
+    const std::string name = "bad_settings_" + std::to_string(i++);
+    const auto r = aar_testing::RunCommand(
+        "timeout 30 rosrun aar_stereo stereo_node __name:=" + name + " " + c.arg);
+    EXPECT_EQ(r.status, 1) << c.arg << ": " << r.output;
+    EXPECT_NE(r.output.find("/" + name + "/" + c.needle), std::string::npos)
+        << c.arg << ": " << r.output;
+  }
+  // Good settings still start (and are stopped by the timeout: status 124).
+  const auto good = aar_testing::RunCommand(
+      "timeout 3 rosrun aar_stereo stereo_node __name:=good_settings _block_size:=11 "
+      "_matcher:=1 _decimation:=0 _organized:=true _max_range:=500");
+  EXPECT_EQ(good.status, 124) << good.output;
 }
 
 TEST(BadInput, PairsThatWaitedTooLongAreDroppedNotProcessedLate) {

@@ -2,32 +2,16 @@
 // before any run starts (scripts/suite parses them after setup and build).
 #include <gtest/gtest.h>
 
-#include <sys/wait.h>
-
-#include <array>
-#include <cstdio>
-#include <memory>
 #include <string>
 
+#include "aar_testing/command.h"
 #include "aar_testing/paths.h"
 
 namespace {
 
-struct Result {
-  int status = -1;
-  std::string output;
-};
-
-Result Suite(const std::string& args) {
-  const std::string command = "/usr/bin/python3 " + aar_testing::WorkspaceRoot() +
-                              "/scripts/suite " + args + " --out /tmp/aar_suite_script_test 2>&1";
-  Result r;
-  std::unique_ptr<FILE, int (*)(FILE*)> pipe(popen(command.c_str(), "r"), pclose);
-  std::array<char, 4096> buffer;
-  while (fgets(buffer.data(), buffer.size(), pipe.get())) r.output += buffer.data();
-  const int status = pclose(pipe.release());
-  r.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
+aar_testing::CommandResult Suite(const std::string& args) {
+  return aar_testing::RunCommand("/usr/bin/python3 " + aar_testing::WorkspaceRoot() +
+                                 "/scripts/suite " + args + " --out /tmp/aar_suite_script_test");
 }
 
 TEST(SuiteScript, BadArgumentsAreNamedAndRefused) {
@@ -46,7 +30,7 @@ TEST(SuiteScript, BadArgumentsAreNamedAndRefused) {
        "--sim-config '/nonexistent.yaml' does not exist"},
   };
   for (const auto& c : cases) {
-    const Result r = Suite(c.args);
+    const auto r = Suite(c.args);
     EXPECT_EQ(r.status, 2) << c.args << ": " << r.output;
     EXPECT_NE(r.output.find(c.needle), std::string::npos) << c.args << ": " << r.output;
   }

@@ -1,5 +1,8 @@
 #include "aar_stereo/ros/stereo_node.h"
 
+#include <cmath>
+#include <sstream>
+
 #include <aar_geometry/mesh_io.h>
 #include <aar_ros_common/param_reader.h>
 #include <aar_ros_common/receiver_params.h>
@@ -11,6 +14,47 @@
 #include "aar_stereo/ros/conversions.h"
 
 namespace aar_stereo {
+
+namespace {
+
+// dynamic_reconfigure quietly clamps a setting to its range and takes the default for one of the
+// wrong type, and ToStereoOptions rounds block sizes and disparity counts: at start-up each of
+// these is refused by name instead (matcher 5 would otherwise become SGBM, block_size 'abc' 9).
+void CheckReconfigurableSettings(const ros::NodeHandle& nh,
+                                 const aar_ros_common::ParamReader& params) {
+  for (const auto& p : StereoConfig::__getParamDescriptions__()) {
+    XmlRpc::XmlRpcValue value;
+    if (!nh.getParam(p->name, value)) continue;  // unset: the default
+    const auto type = value.getType();
+    const bool is_int = type == XmlRpc::XmlRpcValue::TypeInt;
+    const bool ok_type = p->type == "int"      ? is_int
+                         : p->type == "double" ? is_int || type == XmlRpc::XmlRpcValue::TypeDouble
+                         : p->type == "bool"   ? type == XmlRpc::XmlRpcValue::TypeBoolean
+                                               : type == XmlRpc::XmlRpcValue::TypeString;
+    params.Check(ok_type, p->name, "must be of type " + p->type);
+    if (p->type != "int" && p->type != "double") continue;
+    const double v = is_int ? static_cast<int>(value) : static_cast<double>(value);
+    boost::any low, high;
+    p->getValue(StereoConfig::__getMin__(), low);
+    p->getValue(StereoConfig::__getMax__(), high);
+    const double lo = p->type == "int" ? boost::any_cast<int>(low) : boost::any_cast<double>(low);
+    const double hi = p->type == "int" ? boost::any_cast<int>(high) : boost::any_cast<double>(high);
+    std::ostringstream range;
+    range << "must be in [" << lo << ", " << hi << "], not " << v;
+    params.Check(std::isfinite(v) && v >= lo && v <= hi, p->name, range.str());
+  }
+  StereoConfig c = StereoConfig::__getDefault__();
+  c.__fromServer__(nh);
+  params.Check(c.block_size % 2 == 1, "block_size", "must be odd");
+  params.Check(c.matcher != Stereo_block_matching || c.block_size >= 5, "block_size",
+               "must be at least 5 for block matching");
+  params.Check(c.prefilter_size % 2 == 1, "prefilter_size", "must be odd");
+  params.Check(c.num_disparities % 16 == 0, "num_disparities", "must be a multiple of 16");
+  params.Check(!c.organized || c.decimation == Stereo_none, "organized",
+               "needs decimation none (a decimated cloud has no image shape)");
+}
+
+}  // namespace
 
 StereoNodeOptions LoadStereoNodeOptions(const ros::NodeHandle& nh) {
   StereoNodeOptions o;
@@ -41,6 +85,7 @@ StereoNodeOptions LoadStereoNodeOptions(const ros::NodeHandle& nh) {
   // diagnostic_updater's period: a typo would otherwise be ignored.
   params.Allow("diagnostic_period");
   for (const auto& p : StereoConfig::__getParamDescriptions__()) params.Allow(p->name);
+  CheckReconfigurableSettings(nh, params);
   params.AllowSubNamespaces();  // dynamic_reconfigure's own
   params.RejectUnknown();
   return o;
@@ -178,7 +223,17 @@ void StereoNode::Connect() {
 
 void StereoNode::OnReconfigure(StereoConfig& config, uint32_t) {
   try {
+    const StereoConfig asked = config;
     auto processor = std::make_unique<StereoProcessor>(ToStereoOptions(config));
+    if (asked.block_size != config.block_size || asked.prefilter_size != config.prefilter_size ||
+        asked.num_disparities != config.num_disparities || asked.organized != config.organized) {
+      ROS_WARN_STREAM("stereo: settings adjusted to what the matcher takes: block_size "
+                      << asked.block_size << " -> " << config.block_size << ", prefilter_size "
+                      << asked.prefilter_size << " -> " << config.prefilter_size
+                      << ", num_disparities " << asked.num_disparities << " -> "
+                      << config.num_disparities << ", organized " << asked.organized << " -> "
+                      << config.organized);
+    }
     std::lock_guard<std::mutex> lock(mutex_);
     processor_ = std::move(processor);
   } catch (const std::exception& e) {
