@@ -41,6 +41,27 @@ TEST(Replay, SampleBagReproducesTheLiveRun) {
   EXPECT_TRUE(std::filesystem::exists(out + "/report.md"));
 }
 
+// Frames without an estimate are not a success. At 20 times the recorded rate the graph falls
+// behind on 2 cores and drops frames; the script once said "30 of 30 frames" and exited 0 (it
+// counted rows, not estimates). Now it counts both and exits 3.
+TEST(Replay, FramesWithoutAnEstimateAreCountedNotASuccess) {
+  const std::string out = ::testing::TempDir() + "/replay_fast";
+  std::filesystem::remove_all(out);
+  const Result r =
+      Sh("timeout 300 " + kRoot + "/scripts/replay --no-build --no-compare --rate 20 " + kRoot +
+         "/rosbags/sample_contact.bag --out " + out);
+  std::printf("%s", r.output.c_str());
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(
+      r.output, m, std::regex("\\((\\d+) of 30 frames processed, (\\d+) with an estimate\\)")));
+  const int estimated = std::stoi(m[2]);
+  ASSERT_LT(estimated, std::stoi(m[1])) << "the graph kept up at rate 20: no miss to count";
+  EXPECT_EQ(r.status, std::stoi(m[1]) == 30 ? 3 : 1);
+  EXPECT_NE(r.output.find(std::to_string(std::stoi(m[1]) - estimated) + " of " + m[1].str() +
+                          " frames have no estimate"),
+            std::string::npos);
+}
+
 TEST(Replay, BrokenBagsAreNamedAndRefused) {
   const std::string dir = ::testing::TempDir() + "/replay_bad";
   std::filesystem::create_directories(dir);
