@@ -31,6 +31,14 @@ TriangleAdjacency BuildAdjacency(const TriangleMesh& mesh) {
       adjacency.degenerate_triangles.push_back(static_cast<int>(t));
       continue;
     }
+    const Eigen::Vector3d& p0 = mesh.vertices[tri[0]];
+    const Eigen::Vector3d& p1 = mesh.vertices[tri[1]];
+    const Eigen::Vector3d& p2 = mesh.vertices[tri[2]];
+    const double longest_sq =
+        std::max({(p1 - p0).squaredNorm(), (p2 - p1).squaredNorm(), (p0 - p2).squaredNorm()});
+    if (!((p1 - p0).cross(p2 - p0).norm() > kZeroAreaRatio * longest_sq)) {
+      adjacency.zero_area_triangles.push_back(static_cast<int>(t));
+    }
     for (int k = 0; k < 3; ++k) {
       const int a = mesh.triangles[t][k];
       const int b = mesh.triangles[t][(k + 1) % 3];
