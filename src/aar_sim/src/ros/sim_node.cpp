@@ -69,8 +69,8 @@ SimNodeOptions LoadSimNodeOptions(const ros::NodeHandle& nh) {
 SimNode::SimNode(ros::NodeHandle nh, const SimNodeOptions& options)
     : nh_(nh),
       options_(options),
-      path_(FlightPath::Load(options.flight_path)),
       world_(std::make_unique<World>(options.world)),
+      path_(FlightPath::Load(options.flight_path, {world_->boom_model().joints})),
       it_(nh) {
   if (options_.start_time < path_.start_time() || options_.start_time > path_.end_time()) {
     throw std::invalid_argument(

@@ -59,8 +59,8 @@ class SimNode {
 
   ros::NodeHandle nh_;
   SimNodeOptions options_;
+  std::unique_ptr<World> world_;  // before path_: the path is checked against its boom model
   FlightPath path_;
-  std::unique_ptr<World> world_;
   image_transport::ImageTransport it_;
   image_transport::CameraPublisher left_pub_, right_pub_;
   image_transport::Publisher left_label_pub_, right_label_pub_;
