@@ -49,6 +49,7 @@ class SimNode {
 
   void Start();  // starts the frame loop on its own thread
   bool finished() const { return finished_; }
+  bool failed() const { return failed_; }  // the frame loop stopped on an error (logged FATAL)
 
  private:
   void Run();  // the thread: Loop, guarded
@@ -72,7 +73,7 @@ class SimNode {
   std::mutex mutex_;
   std::condition_variable estimate_arrived_;
   ros::Time last_estimate_stamp_;
-  std::atomic<bool> stop_{false}, finished_{false};
+  std::atomic<bool> stop_{false}, finished_{false}, failed_{false};
   std::thread thread_;
 };
 
