@@ -71,6 +71,27 @@ TriangleAdjacency BuildAdjacency(const TriangleMesh& mesh) {
   return adjacency;
 }
 
+std::string TriangleAdjacency::NotClosedReason() const {
+  std::string reason;
+  auto add = [&](size_t count, const std::string& one, const std::string& many) {
+    if (count == 0) return;
+    reason +=
+        (reason.empty() ? "" : ", ") + std::to_string(count) + " " + (count == 1 ? one : many);
+  };
+  add(open_edges.size(), "open edge", "open edges");
+  add(nonmanifold_edges.size(), "non-manifold edge", "non-manifold edges");
+  add(inconsistent_edges.size(), "inconsistently wound edge", "inconsistently wound edges");
+  add(degenerate_triangles.size(), "triangle with a repeated vertex",
+      "triangles with a repeated vertex");
+  add(zero_area_triangles.size(), "zero-area triangle", "zero-area triangles");
+  const size_t faces = vertices.size() - degenerate_triangles.size();
+  if (faces < 4) {
+    reason += (reason.empty() ? "" : ", ") + std::to_string(faces) +
+              " triangles, fewer than a tetrahedron's 4";
+  }
+  return reason;
+}
+
 bool IsConvex(const TriangleMesh& mesh, double tolerance) {
   mesh.Validate();
   // No volume, no convex body (a two-sided sheet passes the plane test otherwise).

@@ -120,6 +120,7 @@ TEST(Convexity, FlatSurfacesAreNotConvex) {
   sheet.triangles = {{0, 1, 2}, {0, 2, 1}};
   sheet.triangle_parts = {0, 0};
   EXPECT_FALSE(BuildAdjacency(sheet).closed());
+  EXPECT_EQ(BuildAdjacency(sheet).NotClosedReason(), "2 triangles, fewer than a tetrahedron's 4");
   EXPECT_FALSE(IsConvex(sheet));
   // A triangle against the fan of an inner point: four faces, every edge twice, opposite ways.
   TriangleMesh flat;
@@ -146,6 +147,7 @@ TEST(Adjacency, ZeroAreaTriangleIsNotClosed) {
   EXPECT_TRUE(adjacency.degenerate_triangles.empty());
   EXPECT_EQ(adjacency.zero_area_triangles, std::vector<int>{5});
   EXPECT_FALSE(adjacency.closed());
+  EXPECT_EQ(adjacency.NotClosedReason(), "1 zero-area triangle");
   // Three distinct indices at one point are zero-area too.
   mesh.vertices[4] = mesh.vertices[0];
   EXPECT_EQ(BuildAdjacency(mesh).zero_area_triangles, (std::vector<int>{0, 5}));
@@ -162,8 +164,11 @@ TEST(Adjacency, TooFewFacesAreNotClosed) {
   one.triangles = {{0, 1, 1}};
   one.triangle_parts = {0};
   EXPECT_FALSE(BuildAdjacency(one).closed());
+  EXPECT_EQ(BuildAdjacency(one).NotClosedReason(),
+            "1 triangle with a repeated vertex, 0 triangles, fewer than a tetrahedron's 4");
   EXPECT_FALSE(BuildAdjacency(WeldVertices(one, 1e-4).mesh).closed());
   EXPECT_TRUE(BuildAdjacency(MakeBox({1.0, 1.0, 1.0})).closed());
+  EXPECT_EQ(BuildAdjacency(MakeBox({1.0, 1.0, 1.0})).NotClosedReason(), "");
 }
 
 TEST(Adjacency, RejectsOutOfRangeIndices) {

@@ -90,7 +90,8 @@ TEST(ModelInfo, MeshWithOnlyADegenerateTriangleIsNotClosed) {
                                     "f 1 2 3\n");
   const ToolRun run = ModelInfo(obj);
   EXPECT_EQ(run.status, 0) << run.output;
-  EXPECT_TRUE(Contains(run.output, "(not closed)")) << run.output;
+  EXPECT_TRUE(Contains(run.output, "(not closed: 0 triangles, fewer than a tetrahedron's 4)"))
+      << run.output;
   EXPECT_FALSE(Contains(run.output, ", closed\n")) << run.output;  // nor its part
   const ToolRun cube = ModelInfo(test::DataPath("cube.stl"));
   EXPECT_TRUE(Contains(cube.output, "(closed)")) << cube.output;

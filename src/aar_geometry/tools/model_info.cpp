@@ -86,15 +86,20 @@ void ReportMesh(const TriangleMesh& mesh, double weld_epsilon) {
             << "open edges: " << adjacency.open_edges.size()
             << ", non-manifold edges: " << adjacency.nonmanifold_edges.size()
             << ", inconsistently wound edges: " << adjacency.inconsistent_edges.size()
-            << (adjacency.closed() ? " (closed)" : " (not closed)") << "\n";
+            << (adjacency.closed() ? " (closed)"
+                                   : " (not closed: " + adjacency.NotClosedReason() + ")")
+            << "\n";
   std::cout << "parts: " << mesh.part_names.size() << "\n";
   std::vector<int> counts(mesh.part_names.size(), 0);
   for (int part : mesh.triangle_parts) ++counts[part];
   for (size_t p = 0; p < mesh.part_names.size(); ++p) {
     const TriangleMesh part =
         WeldVertices(SelectParts(mesh, {mesh.part_names[p]}), weld_epsilon).mesh;
+    const TriangleAdjacency part_adjacency = BuildAdjacency(part);
     std::cout << "  " << mesh.part_names[p] << ": " << counts[p] << " triangles, "
-              << (BuildAdjacency(part).closed() ? "closed" : "not closed") << "\n";
+              << (part_adjacency.closed() ? "closed"
+                                          : "not closed (" + part_adjacency.NotClosedReason() + ")")
+              << "\n";
   }
 }
 

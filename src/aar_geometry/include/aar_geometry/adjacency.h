@@ -1,6 +1,7 @@
 #pragma once
 
 #include <array>
+#include <string>
 #include <vector>
 
 #include "aar_geometry/triangle_mesh.h"
@@ -41,6 +42,8 @@ struct TriangleAdjacency {
            nonmanifold_edges.empty() && inconsistent_edges.empty() &&
            degenerate_triangles.empty() && zero_area_triangles.empty();
   }
+  // Why closed() is false, e.g. "4 open edges, 1 zero-area triangle"; empty when closed.
+  std::string NotClosedReason() const;
 };
 
 // Adjacency by shared vertex indices: weld the mesh first (WeldVertices) when its triangles do
