@@ -31,6 +31,14 @@ TriangleAdjacency BuildAdjacency(const TriangleMesh& mesh) {
       adjacency.degenerate_triangles.push_back(static_cast<int>(t));
       continue;
     }
+    const Eigen::Vector3d& p0 = mesh.vertices[tri[0]];
+    const Eigen::Vector3d& p1 = mesh.vertices[tri[1]];
+    const Eigen::Vector3d& p2 = mesh.vertices[tri[2]];
+    const double longest_sq =
+        std::max({(p1 - p0).squaredNorm(), (p2 - p1).squaredNorm(), (p0 - p2).squaredNorm()});
+    if (!((p1 - p0).cross(p2 - p0).norm() > kZeroAreaRatio * longest_sq)) {
+      adjacency.zero_area_triangles.push_back(static_cast<int>(t));
+    }
     for (int k = 0; k < 3; ++k) {
       const int a = mesh.triangles[t][k];
       const int b = mesh.triangles[t][(k + 1) % 3];
@@ -61,6 +69,27 @@ TriangleAdjacency BuildAdjacency(const TriangleMesh& mesh) {
   std::sort(adjacency.nonmanifold_edges.begin(), adjacency.nonmanifold_edges.end(), by_vertices);
   std::sort(adjacency.inconsistent_edges.begin(), adjacency.inconsistent_edges.end(), by_vertices);
   return adjacency;
+}
+
+std::string TriangleAdjacency::NotClosedReason() const {
+  std::string reason;
+  auto add = [&](size_t count, const std::string& one, const std::string& many) {
+    if (count == 0) return;
+    reason +=
+        (reason.empty() ? "" : ", ") + std::to_string(count) + " " + (count == 1 ? one : many);
+  };
+  add(open_edges.size(), "open edge", "open edges");
+  add(nonmanifold_edges.size(), "non-manifold edge", "non-manifold edges");
+  add(inconsistent_edges.size(), "inconsistently wound edge", "inconsistently wound edges");
+  add(degenerate_triangles.size(), "triangle with a repeated vertex",
+      "triangles with a repeated vertex");
+  add(zero_area_triangles.size(), "zero-area triangle", "zero-area triangles");
+  const size_t faces = vertices.size() - degenerate_triangles.size();
+  if (faces < 4) {
+    reason += (reason.empty() ? "" : ", ") + std::to_string(faces) +
+              " triangles, fewer than a tetrahedron's 4";
+  }
+  return reason;
 }
 
 bool IsConvex(const TriangleMesh& mesh, double tolerance) {

@@ -285,6 +285,23 @@ RobotModel ParseRobotModel(const std::string& xml, const std::string& path,
   return model;
 }
 
+bool Joint::WithinLimits(double position) const {
+  if (!limited()) return true;
+  return position >= lower - kJointLimitTolerance && position <= upper + kJointLimitTolerance;
+}
+
+void CheckJointLimits(const RobotModel& model, const std::map<std::string, double>& positions) {
+  for (const auto& [name, value] : positions) {
+    const Joint* joint = model.FindJoint(name);
+    if (joint == nullptr || joint->WithinLimits(value)) continue;
+    std::ostringstream msg;
+    const char* unit = joint->type == JointType::kPrismatic ? " m" : " rad";
+    msg << "joint '" << name << "' position " << value << unit << " is outside its limits "
+        << joint->lower << " to " << joint->upper << unit << " (robot '" << model.name << "')";
+    throw std::invalid_argument(msg.str());
+  }
+}
+
 std::map<std::string, Eigen::Isometry3d> ComputeLinkPoses(
     const RobotModel& model, const std::map<std::string, double>& joint_positions) {
   for (const auto& [name, value] : joint_positions) {

@@ -5,6 +5,7 @@
 #include <algorithm>
 
 #include "aar_geometry/primitives.h"
+#include "aar_geometry/weld.h"
 #include "test_files.h"
 
 namespace aar_geometry {
@@ -112,14 +113,62 @@ TEST(Adjacency, DegenerateTrianglesHaveNoNeighboursAndOpenTheMesh) {
   EXPECT_FALSE(adjacency.closed());
 }
 
-TEST(Convexity, TwoSidedSheetIsNotConvex) {
-  TriangleMesh sheet;
+TEST(Convexity, FlatSurfacesAreNotConvex) {
+  TriangleMesh sheet;  // a two-sided triangle: two faces enclose nothing
   sheet.AddPart("sheet");
   sheet.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
   sheet.triangles = {{0, 1, 2}, {0, 2, 1}};
   sheet.triangle_parts = {0, 0};
-  EXPECT_TRUE(BuildAdjacency(sheet).closed());  // documented: closed() cannot see it
+  EXPECT_FALSE(BuildAdjacency(sheet).closed());
+  EXPECT_EQ(BuildAdjacency(sheet).NotClosedReason(), "2 triangles, fewer than a tetrahedron's 4");
   EXPECT_FALSE(IsConvex(sheet));
+  // A triangle against the fan of an inner point: four faces, every edge twice, opposite ways.
+  TriangleMesh flat;
+  flat.AddPart("flat");
+  flat.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0.25, 0.25, 0}};
+  flat.triangles = {{0, 1, 2}, {1, 0, 3}, {2, 1, 3}, {0, 2, 3}};
+  flat.triangle_parts = {0, 0, 0, 0};
+  EXPECT_TRUE(BuildAdjacency(flat).closed());  // documented: closed() cannot see it
+  EXPECT_FALSE(IsConvex(flat));
+}
+
+// A tetrahedron whose face (a, c, b) is split at m, the midpoint of a-b, with the zero-area
+// triangle (a, m, b) closing the gap: every edge twice, opposite ways, yet one face has no normal.
+TEST(Adjacency, ZeroAreaTriangleIsNotClosed) {
+  TriangleMesh mesh;
+  mesh.AddPart("tetra");
+  mesh.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {0.5, 0, 0}};  // a b c d m
+  mesh.triangles = {{0, 2, 4}, {4, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}, {0, 4, 1}};
+  mesh.triangle_parts.assign(6, 0);
+  const TriangleAdjacency adjacency = BuildAdjacency(mesh);
+  EXPECT_TRUE(adjacency.open_edges.empty());
+  EXPECT_TRUE(adjacency.nonmanifold_edges.empty());
+  EXPECT_TRUE(adjacency.inconsistent_edges.empty());
+  EXPECT_TRUE(adjacency.degenerate_triangles.empty());
+  EXPECT_EQ(adjacency.zero_area_triangles, std::vector<int>{5});
+  EXPECT_FALSE(adjacency.closed());
+  EXPECT_EQ(adjacency.NotClosedReason(), "1 zero-area triangle");
+  // Three distinct indices at one point are zero-area too.
+  mesh.vertices[4] = mesh.vertices[0];
+  EXPECT_EQ(BuildAdjacency(mesh).zero_area_triangles, (std::vector<int>{0, 5}));
+  // A sliver of real height is a triangle like any other.
+  mesh.vertices[4] = {0.5, 0, 1e-6};
+  EXPECT_TRUE(BuildAdjacency(mesh).zero_area_triangles.empty());
+}
+
+TEST(Adjacency, TooFewFacesAreNotClosed) {
+  EXPECT_FALSE(BuildAdjacency(TriangleMesh()).closed());  // no edges at all: not a surface
+  TriangleMesh one;  // what welding leaves of a one-triangle mesh with two equal corners
+  one.AddPart("one");
+  one.vertices = {{0, 0, 0}, {1, 0, 0}};
+  one.triangles = {{0, 1, 1}};
+  one.triangle_parts = {0};
+  EXPECT_FALSE(BuildAdjacency(one).closed());
+  EXPECT_EQ(BuildAdjacency(one).NotClosedReason(),
+            "1 triangle with a repeated vertex, 0 triangles, fewer than a tetrahedron's 4");
+  EXPECT_FALSE(BuildAdjacency(WeldVertices(one, 1e-4).mesh).closed());
+  EXPECT_TRUE(BuildAdjacency(MakeBox({1.0, 1.0, 1.0})).closed());
+  EXPECT_EQ(BuildAdjacency(MakeBox({1.0, 1.0, 1.0})).NotClosedReason(), "");
 }
 
 TEST(Adjacency, RejectsOutOfRangeIndices) {

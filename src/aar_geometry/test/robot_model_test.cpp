@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 
 #include "aar_geometry/adjacency.h"
@@ -45,6 +46,30 @@ TEST(RobotModel, LinksJointsAndLimits) {
   EXPECT_EQ(model.FindJoint("nozzle_mount")->type, JointType::kFixed);
   EXPECT_FALSE(model.FindJoint("nozzle_mount")->movable());
   EXPECT_EQ(model.FindLink("nowhere"), nullptr);
+}
+
+TEST(RobotModel, JointLimitsAreChecked) {
+  const RobotModel model = LoadFixture();
+  const Joint* pitch = model.FindJoint("boom_pitch");
+  EXPECT_TRUE(pitch->WithinLimits(0.5));
+  EXPECT_TRUE(pitch->WithinLimits(0.349 - 0.5 * kJointLimitTolerance));  // a rounded limit
+  EXPECT_FALSE(pitch->WithinLimits(0.349 - 2.0 * kJointLimitTolerance));
+  EXPECT_FALSE(pitch->WithinLimits(100.0));
+  EXPECT_FALSE(pitch->WithinLimits(std::nan("")));
+  EXPECT_TRUE(model.FindJoint("nozzle_mount")->WithinLimits(5.0));  // fixed: no limits
+  EXPECT_NO_THROW(CheckJointLimits(model, {{"boom_pitch", 0.698}, {"telescope", 0.0}}));
+  auto expect_refused = [&](const std::string& joint, double value, const std::string& text) {
+    try {
+      CheckJointLimits(model, {{joint, value}});
+      ADD_FAILURE() << joint << " = " << value << " accepted";
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find(text), std::string::npos) << e.what();
+    }
+  };
+  expect_refused("boom_pitch", 100.0,
+                 "joint 'boom_pitch' position 100 rad is outside its limits 0.349 to 0.698 rad");
+  expect_refused("telescope", -50.0,
+                 "joint 'telescope' position -50 m is outside its limits 0 to 6 m");
 }
 
 TEST(RobotModel, PrimitivesBecomeClosedMeshes) {

@@ -1,6 +1,9 @@
 // model_info: loads a mesh or URDF the way the pipeline does and reports what later stages rely
 // on: parts, triangles, welding, open/non-manifold edges, area, bounds; optionally writes seeded
 // surface samples as CSV.
+#include <cerrno>
+#include <cmath>
+#include <cstdint>
 #include <cstdlib>
 #include <fstream>
 #include <iomanip>
@@ -27,7 +30,7 @@ void Usage() {
                "  --collision report a URDF's collision geometry (default: visual)\n"
                "  --joint     joint position [rad or m] for a URDF, repeatable\n"
                "  --weld      weld epsilon [m] (default 1e-4, the thesis's)\n"
-               "  --samples   surface samples to draw (default 0: none)\n"
+               "  --samples   surface samples to draw, at least 1 (default: none)\n"
                "  --seed      sampling seed (default 1)\n"
                "  --samples-csv  write samples as x,y,z,nx,ny,nz,part\n";
 }
@@ -38,6 +41,29 @@ std::string CsvField(const std::string& s) {
   std::string quoted = "\"";
   for (char c : s) quoted += c == '"' ? std::string("\"\"") : std::string(1, c);
   return quoted + "\"";
+}
+
+// The whole of `text` as a finite number, else invalid_argument naming `what` and the text
+// (std::stod takes "1abc" and names only itself on "abc").
+double ParseNumber(const std::string& what, const std::string& text) {
+  char* end = nullptr;
+  const double value = std::strtod(text.c_str(), &end);
+  if (text.empty() || end != text.c_str() + text.size() || !std::isfinite(value)) {
+    throw std::invalid_argument(what + ": '" + text + "' is not a number");
+  }
+  return value;
+}
+
+// The whole of `text` as an integer of at least `min` (std::stoul wraps "-5" round to 2^64 - 5).
+uint64_t ParseCount(const std::string& what, const std::string& text, uint64_t min) {
+  const bool digits = !text.empty() && text.find_first_not_of("0123456789") == std::string::npos;
+  errno = 0;
+  const uint64_t value = digits ? std::strtoull(text.c_str(), nullptr, 10) : 0;
+  if (!digits || errno == ERANGE || value < min) {
+    throw std::invalid_argument(what + ": '" + text + "' is not an integer of at least " +
+                                std::to_string(min));
+  }
+  return value;
 }
 
 bool EndsWith(const std::string& s, const std::string& suffix) {
@@ -60,15 +86,20 @@ void ReportMesh(const TriangleMesh& mesh, double weld_epsilon) {
             << "open edges: " << adjacency.open_edges.size()
             << ", non-manifold edges: " << adjacency.nonmanifold_edges.size()
             << ", inconsistently wound edges: " << adjacency.inconsistent_edges.size()
-            << (adjacency.closed() ? " (closed)" : " (not closed)") << "\n";
+            << (adjacency.closed() ? " (closed)"
+                                   : " (not closed: " + adjacency.NotClosedReason() + ")")
+            << "\n";
   std::cout << "parts: " << mesh.part_names.size() << "\n";
   std::vector<int> counts(mesh.part_names.size(), 0);
   for (int part : mesh.triangle_parts) ++counts[part];
   for (size_t p = 0; p < mesh.part_names.size(); ++p) {
     const TriangleMesh part =
         WeldVertices(SelectParts(mesh, {mesh.part_names[p]}), weld_epsilon).mesh;
+    const TriangleAdjacency part_adjacency = BuildAdjacency(part);
     std::cout << "  " << mesh.part_names[p] << ": " << counts[p] << " triangles, "
-              << (BuildAdjacency(part).closed() ? "closed" : "not closed") << "\n";
+              << (part_adjacency.closed() ? "closed"
+                                          : "not closed (" + part_adjacency.NotClosedReason() + ")")
+              << "\n";
   }
 }
 
@@ -95,14 +126,18 @@ int main(int argc, char** argv) {
       } else if (arg == "--joint") {
         const std::string kv = value();
         const size_t eq = kv.find('=');
-        if (eq == std::string::npos) throw std::invalid_argument("--joint takes NAME=VALUE");
-        joints[kv.substr(0, eq)] = std::stod(kv.substr(eq + 1));
+        if (eq == std::string::npos || eq == 0) {
+          throw std::invalid_argument("--joint takes NAME=VALUE, not '" + kv + "'");
+        }
+        const std::string name = kv.substr(0, eq);
+        joints[name] = ParseNumber("--joint " + name, kv.substr(eq + 1));
       } else if (arg == "--weld") {
-        weld_epsilon = std::stod(value());
+        weld_epsilon = ParseNumber("--weld", value());
+        if (weld_epsilon < 0.0) throw std::invalid_argument("--weld must not be negative");
       } else if (arg == "--samples") {
-        sampling.num_points = std::stoul(value());
+        sampling.num_points = ParseCount("--samples", value(), 1);
       } else if (arg == "--seed") {
-        sampling.seed = std::stoull(value());
+        sampling.seed = ParseCount("--seed", value(), 0);
       } else if (arg == "--samples-csv") {
         samples_csv = value();
       } else if (!arg.empty() && arg[0] == '-') {
@@ -127,6 +162,7 @@ int main(int argc, char** argv) {
     TriangleMesh mesh;
     if (EndsWith(file, ".urdf")) {
       const RobotModel model = LoadRobotModel(file);
+      CheckJointLimits(model, joints);
       std::cout << "robot: " << model.name << " (root link " << model.root_link << ", "
                 << model.links.size() << " links, " << model.joints.size() << " joints)\n";
       for (const auto& joint : model.joints) {

@@ -66,11 +66,8 @@ std::vector<BoomPart> LoadBoomParts(const aar_geometry::RobotModel& model,
       part.adjacency = aar_geometry::BuildAdjacency(part.mesh);
       const std::string where = "collision part '" + part.name + "' of boom link '" + link.name;
       if (!part.adjacency.closed()) {
-        throw std::invalid_argument(
-            where + "' is not closed (" + std::to_string(part.adjacency.open_edges.size()) +
-            " open, " + std::to_string(part.adjacency.nonmanifold_edges.size()) +
-            " non-manifold, " + std::to_string(part.adjacency.inconsistent_edges.size()) +
-            " inconsistently wound edges): shadow volumes need closed convex parts");
+        throw std::invalid_argument(where + "' is not closed (" + part.adjacency.NotClosedReason() +
+                                    "): shadow volumes need closed convex parts");
       }
       // 0.1 mm: mesh files round vertices (6 decimals in OBJ), which tilts thin facets.
       if (!aar_geometry::IsConvex(part.mesh, 1e-4)) {

@@ -20,11 +20,9 @@ PartView ViewPart(const aar_geometry::TriangleMesh& mesh,
                   const aar_geometry::TriangleAdjacency& adjacency, const Eigen::Vector3d& eye,
                   const std::string& part, bool validate) {
   if (validate && !adjacency.closed()) {
-    throw std::invalid_argument(
-        "part '" + part + "' is not closed (" + std::to_string(adjacency.open_edges.size()) +
-        " open, " + std::to_string(adjacency.nonmanifold_edges.size()) + " non-manifold, " +
-        std::to_string(adjacency.inconsistent_edges.size()) +
-        " inconsistently wound edges): shadow volumes need closed parts");
+    throw std::invalid_argument("part '" + part + "' is not closed (" +
+                                adjacency.NotClosedReason() +
+                                "): shadow volumes need closed parts");
   }
   if (validate && !aar_geometry::IsConvex(mesh)) {
     throw std::invalid_argument("part '" + part +

@@ -42,6 +42,17 @@ void CheckIncreasing(const std::vector<FlightPathRow>& rows, size_t i) {
   }
 }
 
+// The boom column's joint from `options`, or nullptr when the options name no joints.
+const aar_geometry::Joint* BoomJoint(const std::string& path, const std::string& where,
+                                     const FlightPathOptions& options, const std::string& name) {
+  if (options.boom_joints.empty()) return nullptr;
+  for (const auto& joint : options.boom_joints) {
+    if (joint.name == name) return &joint;
+  }
+  throw LoadError(path,
+                  where + "column '" + name + "': the boom model has no joint '" + name + "'");
+}
+
 }  // namespace
 
 Eigen::Isometry3d FlightPathRow::T_tanker_receiver() const {
@@ -58,7 +69,7 @@ FlightPath::FlightPath(std::vector<FlightPathRow> rows) : rows_(std::move(rows))
   }
 }
 
-FlightPath FlightPath::Load(const std::string& path) {
+FlightPath FlightPath::Load(const std::string& path, const FlightPathOptions& options) {
   aar_geometry::CheckReadableFile(path);
   std::ifstream in(path);
   std::string line;
@@ -88,6 +99,22 @@ FlightPath FlightPath::Load(const std::string& path) {
                               "boom_extension or none");
   }
 
+  // Boom columns: CSV name, joint, CSV unit per joint unit (deg per rad or m per m), unit name.
+  struct BoomColumn {
+    std::string name;
+    const aar_geometry::Joint* joint;
+    double scale;
+    const char* unit;
+  };
+  std::vector<BoomColumn> boom_limits;
+  if (boom_columns == 3) {
+    for (const auto& name : kBoom) {
+      const bool angle = name != "boom_extension";
+      boom_limits.push_back({name, BoomJoint(path, where_header, options, name),
+                             angle ? RadToDeg(1.0) : 1.0, angle ? " deg" : " m"});
+    }
+  }
+
   std::vector<FlightPathRow> rows;
   while (std::getline(in, line)) {
     ++line_number;
@@ -115,6 +142,18 @@ FlightPath FlightPath::Load(const std::string& path) {
     if (boom_columns == 3) {
       row.boom = BoomPose{DegToRad(number("boom_pitch")), DegToRad(number("boom_roll")),
                           number("boom_extension")};
+      // The joint states the sim publishes: outside the URDF's limits no real boom goes there.
+      const std::map<std::string, double> positions =
+          aar_description::BoomJointPositions(*row.boom);
+      for (const auto& c : boom_limits) {
+        if (c.joint == nullptr || c.joint->WithinLimits(positions.at(c.name))) continue;
+        std::ostringstream msg;
+        msg << where << "column " << column.at(c.name) + 1 << " '" << c.name
+            << "': " << cells[column.at(c.name)] << c.unit << " is outside the limits of joint '"
+            << c.name << "', " << c.joint->lower * c.scale << " to " << c.joint->upper * c.scale
+            << c.unit;
+        throw LoadError(path, msg.str());
+      }
     }
     rows.push_back(row);
     try {

@@ -2,11 +2,14 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 
 #include <aar_geometry/load_error.h>
+#include <aar_geometry/robot_model.h>
+#include <ros/package.h>
 
 namespace aar_sim {
 namespace {
@@ -124,6 +127,67 @@ TEST(FlightPathErrors, NameFileLineAndProblem) {
               "line 4: time 1 s does not increase");
   ExpectError(dir.Write("half_boom.csv", "t,x,y,z,roll,pitch,yaw,boom_pitch\n0,1,2,3,4,5,6,30\n"),
               "boom columns must be all");
+}
+
+// The shipped boom's joints, as the sim loads them.
+std::vector<aar_geometry::Joint> BoomJoints() {
+  const std::string description = ros::package::getPath("aar_description");
+  aar_geometry::RobotModelOptions options;
+  options.package_paths = {std::filesystem::path(description).parent_path().string()};
+  return aar_geometry::LoadRobotModel(description + "/models/boom.urdf", options).joints;
+}
+
+// Boom cells outside the URDF's limits (pitch 20 to 40 deg, roll -15 to 15 deg, extension 0 to
+// 6 m): LoadError naming the file, line, column and the limits.
+TEST(FlightPathErrors, BoomOutsideTheJointLimits) {
+  TempDir dir;
+  const FlightPathOptions boom{BoomJoints()};
+  const std::string header = "t,x,y,z,roll,pitch,yaw,boom_pitch,boom_roll,boom_extension\n";
+  const std::string good = "0,-40,0,-10,0,0,0,30,0,1\n";
+  auto expect_error = [&](const std::string& name, const std::string& row,
+                          const std::string& fragment) {
+    const std::string path = dir.Write(name, header + good + row);
+    try {
+      FlightPath::Load(path, boom);
+      ADD_FAILURE() << "loaded " << path;
+    } catch (const aar_geometry::LoadError& e) {
+      EXPECT_EQ(std::string(e.what()).rfind(path + ": ", 0), 0u) << e.what();
+      EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
+    }
+  };
+  expect_error("pitch.csv", "1,-39,0,-10,0,0,0,170,0,1\n",
+               "line 3: column 8 'boom_pitch': 170 deg is outside the limits of joint "
+               "'boom_pitch', 20 to 40 deg");
+  expect_error("roll.csv", "1,-39,0,-10,0,0,0,30,95,1\n",
+               "line 3: column 9 'boom_roll': 95 deg is outside the limits of joint 'boom_roll', "
+               "-15 to 15 deg");
+  expect_error("extension.csv", "1,-39,0,-10,0,0,0,30,0,-50\n",
+               "line 3: column 10 'boom_extension': -50 m is outside the limits of joint "
+               "'boom_extension', 0 to 6 m");
+  expect_error("low_pitch.csv", "1,-39,0,-10,0,0,0,19.9,0,1\n", "19.9 deg is outside");
+
+  // The limits themselves load (the URDF's are rounded to six digits: 20 deg is 0.349066).
+  const std::string edges = dir.Write("edges.csv", header +
+                                                       "0,-40,0,-10,0,0,0,20,-15,0\n"
+                                                       "1,-39,0,-10,0,0,0,40,15,6\n");
+  EXPECT_EQ(FlightPath::Load(edges, boom).rows().size(), 2u);
+  // Without a boom model nothing is checked (no model to check against).
+  EXPECT_EQ(FlightPath::Load(dir.Path("pitch.csv")).rows().size(), 2u);
+
+  // A boom model without the column's joint is named.
+  std::vector<aar_geometry::Joint> no_roll = BoomJoints();
+  no_roll.erase(std::remove_if(no_roll.begin(), no_roll.end(),
+                               [](const auto& j) { return j.name == "boom_roll"; }),
+                no_roll.end());
+  try {
+    FlightPath::Load(edges, {no_roll});
+    ADD_FAILURE() << "loaded " << edges << " against a boom without boom_roll";
+  } catch (const aar_geometry::LoadError& e) {
+    EXPECT_NE(std::string(e.what()).find("line 1: column 'boom_roll': the boom model has no joint "
+                                         "'boom_roll'"),
+              std::string::npos)
+        << e.what();
+  }
 }
 
 }  // namespace

@@ -28,7 +28,7 @@ int main(int argc, char** argv) {
         aar_sim::DefaultWorldOptions(ros::package::getPath("aar_description") + "/models");
     options.boom_visible = !(argc > 4 && std::string(argv[4]) == "--no-boom");
     aar_sim::World world(options);
-    const auto path = aar_sim::FlightPath::Load(argv[1]);
+    const auto path = aar_sim::FlightPath::Load(argv[1], {world.boom_model().joints});
     const auto row = path.At(std::stod(argv[2]));
     const auto frame =
         world.Render(row, row.boom.value_or(aar_description::DefaultBoomPose()), 0, true, false);

@@ -38,7 +38,16 @@ struct Joint {
     return type == JointType::kRevolute || type == JointType::kContinuous ||
            type == JointType::kPrismatic;
   }
+  // Revolute and prismatic joints have <limit> (urdfdom requires it); continuous ones do not.
+  bool limited() const { return type == JointType::kRevolute || type == JointType::kPrismatic; }
+  // True for an unlimited joint or a finite `position` [rad or m] within [lower, upper] up to
+  // kJointLimitTolerance.
+  bool WithinLimits(double position) const;
 };
+
+// [rad] or [m]: URDF limits are written rounded (aar_description's to six significant digits,
+// 20 deg as 0.349066), so a position at a limit given in other units may land just outside it.
+constexpr double kJointLimitTolerance = 1e-6;
 
 struct RobotModel {
   std::string name;
@@ -77,6 +86,11 @@ RobotModel ParseRobotModel(const std::string& xml, const std::string& source,
 // finite.
 std::map<std::string, Eigen::Isometry3d> ComputeLinkPoses(
     const RobotModel& model, const std::map<std::string, double>& joint_positions = {});
+
+// Throws std::invalid_argument naming the joint, the position and the joint's limits for a
+// position outside a limited joint's limits (Joint::WithinLimits). Names that are not joints of
+// the model are left to ComputeLinkPoses.
+void CheckJointLimits(const RobotModel& model, const std::map<std::string, double>& positions);
 
 enum class GeometryKind { kVisual, kCollision };
 

@@ -6,6 +6,7 @@
 
 #include <aar_description/boom_model.h>
 #include <aar_geometry/pose.h>
+#include <aar_geometry/robot_model.h>
 
 namespace aar_sim {
 
@@ -22,15 +23,23 @@ struct FlightPathRow {
   Eigen::Isometry3d T_tanker_receiver() const;
 };
 
+struct FlightPathOptions {
+  // The boom model's joints (e.g. World::boom_model().joints): boom columns must lie within the
+  // limits of its boom_pitch, boom_roll and boom_extension (Joint::WithinLimits). Empty: not
+  // checked.
+  std::vector<aar_geometry::Joint> boom_joints;
+};
+
 // A receiver trajectory from a CSV with header t,x,y,z,roll,pitch,yaw (s, m, deg; intrinsic
 // z-y'-x'') and optional boom_pitch,boom_roll,boom_extension (deg, deg, m), in any column order.
 // Between rows, position and boom are interpolated linearly and attitude by slerp.
 class FlightPath {
  public:
   // Throws aar_geometry::LoadError naming the file and line for a missing or empty file, a
-  // missing column, a cell that is not a finite number, a row of the wrong width, or a time that
-  // does not increase.
-  static FlightPath Load(const std::string& path);
+  // missing column, a cell that is not a finite number, a row of the wrong width, a time that
+  // does not increase, or a boom cell outside its joint's limits (naming the column and the
+  // limits; a boom model without that joint is named too).
+  static FlightPath Load(const std::string& path, const FlightPathOptions& options = {});
   // Throws std::invalid_argument on the same problems as Load (without file and line).
   explicit FlightPath(std::vector<FlightPathRow> rows);
 

@@ -1,5 +1,7 @@
 #include "aar_sim/ros/sim_node.h"
 
+#include <stdexcept>
+
 #include <aar_ros_common/markers.h>
 #include <aar_ros_common/param_reader.h>
 
@@ -69,8 +71,8 @@ SimNodeOptions LoadSimNodeOptions(const ros::NodeHandle& nh) {
 SimNode::SimNode(ros::NodeHandle nh, const SimNodeOptions& options)
     : nh_(nh),
       options_(options),
-      path_(FlightPath::Load(options.flight_path)),
       world_(std::make_unique<World>(options.world)),
+      path_(FlightPath::Load(options.flight_path, {world_->boom_model().joints})),
       it_(nh) {
   if (options_.start_time < path_.start_time() || options_.start_time > path_.end_time()) {
     throw std::invalid_argument(
@@ -128,6 +130,7 @@ void SimNode::Run() {
     Loop();
   } catch (const std::exception& e) {  // never let an exception end the process from this thread
     ROS_FATAL_STREAM("sim: frame loop stopped: " << e.what());
+    failed_ = true;
   }
   finished_ = true;
   if (options_.shutdown_at_end) ros::requestShutdown();
@@ -169,8 +172,7 @@ void SimNode::Loop() {
     try {
       frame = world_->Render(row, boom, static_cast<uint64_t>(k), options_.publish_labels, false);
     } catch (const std::exception& e) {
-      ROS_FATAL_STREAM("sim: rendering frame " << k << " failed: " << e.what());
-      break;
+      throw std::runtime_error("rendering frame " + std::to_string(k) + " failed: " + e.what());
     }
     PublishFrame(k, row, boom, frame, stamp);
     if (options_.lockstep) {

@@ -1,5 +1,5 @@
 // sim_node: the simulator as a standalone process. Exits non-zero, saying why, when the flight
-// path, a model or EGL is missing.
+// path, a model or EGL is missing or bad, or rendering fails.
 #include <ros/ros.h>
 
 #include "aar_sim/ros/sim_node.h"
@@ -17,6 +17,8 @@ int main(int argc, char** argv) {
   node->Start();
   ros::AsyncSpinner spinner(2);
   spinner.start();
-  ros::waitForShutdown();
-  return 0;
+  // Until ros::shutdown (shutdown_at_end, a signal) or a failed frame loop, which must not exit
+  // 0 like a finished run: launch/sim.launch ends a clean exit quietly.
+  while (ros::ok() && !node->failed()) ros::WallDuration(0.1).sleep();
+  return node->failed() ? 1 : 0;
 }

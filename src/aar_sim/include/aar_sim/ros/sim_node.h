@@ -49,6 +49,7 @@ class SimNode {
 
   void Start();  // starts the frame loop on its own thread
   bool finished() const { return finished_; }
+  bool failed() const { return failed_; }  // the frame loop stopped on an error (logged FATAL)
 
  private:
   void Run();  // the thread: Loop, guarded
@@ -59,8 +60,8 @@ class SimNode {
 
   ros::NodeHandle nh_;
   SimNodeOptions options_;
+  std::unique_ptr<World> world_;  // before path_: the path is checked against its boom model
   FlightPath path_;
-  std::unique_ptr<World> world_;
   image_transport::ImageTransport it_;
   image_transport::CameraPublisher left_pub_, right_pub_;
   image_transport::Publisher left_label_pub_, right_label_pub_;
@@ -72,7 +73,7 @@ class SimNode {
   std::mutex mutex_;
   std::condition_variable estimate_arrived_;
   ros::Time last_estimate_stamp_;
-  std::atomic<bool> stop_{false}, finished_{false};
+  std::atomic<bool> stop_{false}, finished_{false}, failed_{false};
   std::thread thread_;
 };
 
