@@ -2,7 +2,12 @@
 """Relays ~input (default /tf_recorded) to ~output (default /tf) without the transforms whose
 child frame is in ~drop_child_frames (default [receiver]): a replayed flight keeps the
 simulator's truth and the boom's links, but not the live run's estimates, which the replay
-makes anew."""
+makes anew.
+
+Fault injection: with ~outage_start (s of bag time, >= 0) and ~outage_duration (s), nothing is
+relayed in [start, start + duration): tf stops, then returns (scripts/replay --tf-outage)."""
+import math
+
 import rospy
 from tf2_msgs.msg import TFMessage
 
@@ -10,9 +15,25 @@ from tf2_msgs.msg import TFMessage
 def main():
     rospy.init_node("tf_filter")
     drop = set(rospy.get_param("~drop_child_frames", ["receiver"]))
+    start = float(rospy.get_param("~outage_start", -1.0))
+    duration = float(rospy.get_param("~outage_duration", 0.0))
+    if not (math.isfinite(start) and math.isfinite(duration) and duration >= 0.0):
+        rospy.logfatal("tf_filter: ~outage_start and ~outage_duration must be finite, the "
+                       "duration >= 0 (start %s, duration %s)", start, duration)
+        raise SystemExit(1)
     pub = rospy.Publisher(rospy.get_param("~output", "/tf"), TFMessage, queue_size=100)
+    state = {"in_outage": False}
 
     def relay(msg):
+        if start >= 0.0 and duration > 0.0:
+            now = rospy.Time.now().to_sec()
+            inside = start <= now < start + duration
+            if inside != state["in_outage"]:
+                state["in_outage"] = inside
+                rospy.logwarn("tf_filter: tf outage %s at %.3f s (injected)",
+                              "starts" if inside else "ends", now)
+            if inside:
+                return
         kept = [t for t in msg.transforms if t.child_frame_id not in drop]
         if kept:
             pub.publish(TFMessage(transforms=kept))

@@ -62,6 +62,26 @@ TEST(Replay, FramesWithoutAnEstimateAreCountedNotASuccess) {
             std::string::npos);
 }
 
+// A tf outage (injected: tf_filter relays nothing from 47.0 to 48.0 s of bag time): the frames in
+// it have no truth; each is named and counted, none is lost without a word.
+TEST(Replay, TfOutageFramesAreNamedAndCounted) {
+  const std::string out = ::testing::TempDir() + "/replay_outage";
+  std::filesystem::remove_all(out);
+  const Result r = Sh("timeout 300 " + kRoot + "/scripts/replay --no-build --no-compare " +
+                      "--tf-outage 47,1 " + kRoot + "/rosbags/sample_contact.bag --out " + out);
+  std::printf("%s", r.output.c_str());
+  EXPECT_EQ(r.status, 1);
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(r.output, m,
+                                std::regex("replay: (\\d+) frames had no truth \\(tf to the truth "
+                                           "frame missing at their stamp\\)")));
+  // 47.0 to 47.9 s: 10 frames, give or take the edges of the outage.
+  EXPECT_GE(std::stoi(m[1]), 8);
+  EXPECT_LE(std::stoi(m[1]), 12);
+  EXPECT_EQ(r.output.find("reached eval"), std::string::npos) << "frames lost without a word";
+  EXPECT_EQ(Sh("grep -c 'tf outage starts' " + out + "/dynamic/launch.log").output, "1\n");
+}
+
 TEST(Replay, BrokenBagsAreNamedAndRefused) {
   const std::string dir = ::testing::TempDir() + "/replay_bad";
   std::filesystem::create_directories(dir);

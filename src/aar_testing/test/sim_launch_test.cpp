@@ -3,16 +3,12 @@
 // of its own, which roslaunch starts and stops.
 #include <gtest/gtest.h>
 
-#include <sys/wait.h>
-
-#include <array>
-#include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <memory>
 #include <string>
 
+#include "aar_testing/command.h"
 #include "aar_testing/paths.h"
 
 namespace {
@@ -21,23 +17,9 @@ const std::string kRoot = aar_testing::WorkspaceRoot();
 // roslaunch with its own master ends in well under this on the 2-core machine (about 5 s).
 constexpr double kEndsWithinS = 45.0;
 
-struct Result {
-  int status = -1;  // 124: `timeout` stopped roslaunch, which did not end on its own
-  std::string output;
-  double seconds = 0.0;
-};
-
-Result Sh(const std::string& command) {
-  const auto start = std::chrono::steady_clock::now();
-  Result r;
-  std::unique_ptr<FILE, int (*)(FILE*)> pipe(popen((command + " 2>&1").c_str(), "r"), pclose);
-  std::array<char, 4096> buffer;
-  while (fgets(buffer.data(), buffer.size(), pipe.get())) r.output += buffer.data();
-  const int status = pclose(pipe.release());
-  r.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  return r;
-}
+// status 124: `timeout` stopped roslaunch, which did not end on its own.
+using Result = aar_testing::CommandResult;
+const auto Sh = aar_testing::RunCommand;
 
 int FreePort() {  // scripts/ros-port: a free port for a master of our own
   const Result r = Sh(kRoot + "/scripts/ros-port");

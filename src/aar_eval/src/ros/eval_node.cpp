@@ -2,6 +2,7 @@
 
 #include <filesystem>
 #include <iostream>
+#include <sstream>
 
 #include <aar_msgs/PoseError.h>
 #include <aar_ros_common/param_reader.h>
@@ -40,14 +41,16 @@ EvalNode::EvalNode(ros::NodeHandle nh, const EvalNodeOptions& options)
   if (!out_) throw std::runtime_error(path_ + ": cannot be written");
   out_ << FrameCsvHeader() << "\n" << std::flush;
   error_pub_ = nh_.advertise<aar_msgs::PoseError>("aar/pose_error", 10);
-  frame_sub_ = nh_.subscribe("stereo/left/camera_info", 10, &EvalNode::OnFrame, this);
-  estimate_sub_ = nh_.subscribe("aar/pose_estimate", 10, &EvalNode::OnEstimate, this);
+  // Long queues: a frame dropped here would have neither a row nor a log line (small messages).
+  frame_sub_ = nh_.subscribe("stereo/left/camera_info", 100, &EvalNode::OnFrame, this);
+  estimate_sub_ = nh_.subscribe("aar/pose_estimate", 100, &EvalNode::OnEstimate, this);
 }
 
 EvalNode::~EvalNode() {
   frame_sub_.shutdown();
   estimate_sub_.shutdown();
   std::lock_guard<std::mutex> lock(mutex_);
+  stopping_ = true;
   // The run is over: what has no estimate now is a miss.
   Record(evaluator_.SettleAll(
       [this](int64_t stamp_ns, std::string* error) { return Truth(stamp_ns, error); }));
@@ -111,8 +114,14 @@ void EvalNode::Record(const std::vector<SettledFrame>& settled) {
       estimate_headers_.erase(header);
     }
     if (!s.no_truth.empty()) {
-      ROS_ERROR_STREAM("eval: no truth for frame " << ToRosTime(s.stamp_ns) << " (" << s.no_truth
-                                                   << "); frame left out");
+      std::ostringstream line;
+      line << "eval: no truth for frame " << ToRosTime(s.stamp_ns) << " (" << s.no_truth
+           << "); frame left out";
+      // The last frames settle as the node stops, when rosconsole drops what it is given.
+      if (stopping_)
+        std::cerr << line.str() << std::endl;
+      else
+        ROS_ERROR_STREAM(line.str());
       continue;
     }
     const FrameRecord& f = s.record;

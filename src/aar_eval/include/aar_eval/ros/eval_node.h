@@ -55,6 +55,7 @@ class EvalNode {
   std::map<int64_t, std_msgs::Header> estimate_headers_;  // for aar/pose_error
   std::ofstream out_;
   std::string path_;
+  bool stopping_ = false;  // in the destructor: log to stderr, rosconsole is gone
 };
 
 }  // namespace aar_eval
