@@ -4,6 +4,10 @@ child frame is in ~drop_child_frames (default [receiver]): a replayed flight kee
 simulator's truth and the boom's links, but not the live run's estimates, which the replay
 makes anew.
 
+It also merges ~static_input (default: none) into one latched ~static_output (default
+/tf_static): a bag holds one /tf_static message per static publisher, and a player latches only
+the last, so a node started late (respawned, rviz) would miss the others' frames.
+
 Fault injection: with ~outage_start (s of bag time, >= 0) and ~outage_duration (s), nothing is
 relayed in [start, start + duration): tf stops, then returns (scripts/replay --tf-outage)."""
 import math
@@ -39,6 +43,19 @@ def main():
             pub.publish(TFMessage(transforms=kept))
 
     rospy.Subscriber(rospy.get_param("~input", "/tf_recorded"), TFMessage, relay, queue_size=100)
+
+    static_input = rospy.get_param("~static_input", "")
+    if static_input:
+        static_pub = rospy.Publisher(rospy.get_param("~static_output", "/tf_static"), TFMessage,
+                                     queue_size=1, latch=True)
+        merged = {}  # child frame -> its transform
+
+        def merge(msg):
+            for t in msg.transforms:
+                merged[t.child_frame_id] = t
+            static_pub.publish(TFMessage(transforms=list(merged.values())))
+
+        rospy.Subscriber(static_input, TFMessage, merge, queue_size=100)
     rospy.spin()
 
 

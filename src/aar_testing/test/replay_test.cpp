@@ -4,9 +4,12 @@
 
 #include <unistd.h>
 
+#include <chrono>
 #include <filesystem>
 #include <regex>
 #include <string>
+
+#include <aar_eval/tables.h>
 
 #include "aar_testing/command.h"
 #include "aar_testing/paths.h"
@@ -80,6 +83,62 @@ TEST(Replay, TfOutageFramesAreNamedAndCounted) {
   EXPECT_LE(std::stoi(m[1]), 12);
   EXPECT_EQ(r.output.find("reached eval"), std::string::npos) << "frames lost without a word";
   EXPECT_EQ(Sh("grep -c 'tf outage starts' " + out + "/dynamic/launch.log").output, "1\n");
+}
+
+// A stage killed mid-flight (kill -9) comes back by itself: replay.launch respawns stereo,
+// occlusion and registration (respawn:=true, its default) and eval, outside the manager, keeps
+// counting. Before, a kill -9 of registration ended the whole replay. `pattern` picks the process
+// among this replay's own (its process tree), never another run's.
+void KillMidFlightAndResume(const std::string& name, const std::string& pattern) {
+  const std::string out = ::testing::TempDir() + "/replay_kill_" + name;
+  std::filesystem::remove_all(out);
+  std::filesystem::create_directories(out);
+  const std::string csv = out + "/dynamic/frames.csv";
+  // At a tenth of the recorded rate (30 s of playback), a stage has time to come back.
+  ASSERT_EQ(
+      Sh("(timeout 300 " + kRoot + "/scripts/replay --no-build --no-compare --rate 0.1 " + kRoot +
+         "/rosbags/sample_contact.bag --out " + out + " > " + out + "/replay.log 2>&1; " +
+         "echo $? > " + out + "/status) > /dev/null 2>&1 & echo $! > " + out + "/pid")
+          .status,
+      0);
+  // Once 8 frames are in, kill the process.
+  auto rows = [&] { return Sh("[ -f " + csv + " ] && tail -n +2 " + csv + " | wc -l || echo 0"); };
+  const auto start = std::chrono::steady_clock::now();
+  while (std::stoi(rows().output) < 8 &&
+         std::chrono::steady_clock::now() - start < std::chrono::seconds(120))
+    ::usleep(200000);
+  ASSERT_GE(std::stoi(rows().output), 8) << Sh("cat " + out + "/replay.log").output;
+  // The replay's process tree, breadth first from the backgrounded shell.
+  const Result killed =
+      Sh("tree=$(cat " + out + "/pid); new=$tree; while [ -n \"$new\" ]; do " +
+         "new=$(for p in $new; do pgrep -P $p; done | tr '\\n' ' '); tree=\"$tree $new\"; done; " +
+         "for p in $tree; do if grep -q -- '" + pattern + "' /proc/$p/cmdline 2>/dev/null; then " +
+         "kill -9 $p && echo killed $p; fi; done");
+  std::printf("[ replay ] %s at frame %s: %s", name.c_str(), rows().output.c_str(),
+              killed.output.c_str());
+  ASSERT_NE(killed.output.find("killed"), std::string::npos) << "no process matched " << pattern;
+  while (!std::filesystem::exists(out + "/status") &&
+         std::chrono::steady_clock::now() - start < std::chrono::seconds(300))
+    ::usleep(500000);
+  const std::string log = Sh("cat " + out + "/replay.log " + out + "/dynamic/launch.log").output;
+  ASSERT_TRUE(std::filesystem::exists(out + "/status")) << log;
+  // Every frame reached eval; the frames after the restart have estimates again.
+  EXPECT_NE(log.find("(30 of 30 frames processed"), std::string::npos) << log;
+  EXPECT_NE(log.find("restarting process"), std::string::npos) << log;  // roslaunch respawned it
+  const auto records = aar_eval::ReadFrameCsv(csv);
+  ASSERT_EQ(records.size(), 30u);
+  int last_estimated = 0;
+  for (size_t i = 22; i < records.size(); ++i) last_estimated += records[i].estimated;
+  std::printf("[ replay ] %s: %d of the last 8 frames estimated\n", name.c_str(), last_estimated);
+  EXPECT_GE(last_estimated, 7);
+}
+
+TEST(Replay, KilledRegistrationComesBackAndEstimatesAgain) {
+  KillMidFlightAndResume("registration", "RegistrationNodelet");
+}
+
+TEST(Replay, KilledManagerComesBackAndEstimatesAgain) {
+  KillMidFlightAndResume("manager", "__name:=aar_manager");
 }
 
 TEST(Replay, BrokenBagsAreNamedAndRefused) {
