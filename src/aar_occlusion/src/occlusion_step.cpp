@@ -1,5 +1,6 @@
 #include "aar_occlusion/occlusion_step.h"
 
+#include <algorithm>
 #include <stdexcept>
 
 namespace aar_occlusion {
@@ -56,18 +57,22 @@ OcclusionResult OcclusionStep::Process(const OcclusionInput& in) {
   OcclusionResult r;
   // Out-of-range points leave first: a corrupt cloud (coordinates of 1e20) would otherwise place
   // the centroid seed, and the reference with it, 1e19 m away. `points` are the rest;
-  // `in_range[k]` is the index in in.points of points[k] when some left.
-  std::vector<size_t> in_range;
+  // `in_range[k]` is the index in in.points of points[k] when some left. Counted first, so that
+  // the usual frame (every point in range) builds no index list.
   const double max_range2 = options_.max_point_range * options_.max_point_range;
-  for (size_t i = 0; i < in.points.size(); ++i) {
-    if ((in.points[i] - in.left_eye).squaredNorm() <= max_range2)
-      in_range.push_back(i);
-    else
-      ++r.out_of_range;
-  }
+  const auto within = [&](const Eigen::Vector3d& p) {
+    return (p - in.left_eye).squaredNorm() <= max_range2;
+  };
+  r.out_of_range = static_cast<size_t>(
+      std::count_if(in.points.begin(), in.points.end(), [&](const auto& p) { return !within(p); }));
+  std::vector<size_t> in_range;
   std::vector<Eigen::Vector3d> kept_in_range;
   if (r.out_of_range > 0) {
-    for (const size_t i : in_range) kept_in_range.push_back(in.points[i]);
+    for (size_t i = 0; i < in.points.size(); ++i) {
+      if (!within(in.points[i])) continue;
+      in_range.push_back(i);
+      kept_in_range.push_back(in.points[i]);
+    }
   }
   const std::vector<Eigen::Vector3d>& points = r.out_of_range > 0 ? kept_in_range : in.points;
   // Place the boom; without it this frame passes through unculled.

@@ -75,9 +75,7 @@ StereoNodeOptions LoadStereoNodeOptions(const ros::NodeHandle& nh) {
   roi.estimate_max_age = params.Get("estimate_max_age", roi.estimate_max_age);
   params.Check(roi.estimate_max_age > 0.0, "estimate_max_age", "must be > 0 [s]");
   roi.estimate_wait = params.GetNonNegative("estimate_wait", roi.estimate_wait);
-  params.Check(roi.estimate_wait >= 0.0, "estimate_wait", "must be >= 0 [s]");
   roi.tf_timeout = params.GetNonNegative("tf_timeout", roi.tf_timeout);
-  params.Check(roi.tf_timeout >= 0.0, "tf_timeout", "must be >= 0 [s]");
   roi.robot_description = params.Get("robot_description", roi.robot_description);
   roi.receiver_mesh = aar_ros_common::LoadReceiverMesh(params);
   roi.frames = aar_ros_common::LoadStackFrames(params);
