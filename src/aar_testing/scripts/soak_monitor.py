@@ -108,10 +108,93 @@ def mean(values):
     return sum(values) / len(values) if values else float("nan")
 
 
+def tenths(rows, names, total, warmup):
+    """The samples of the first and the last tenth of the frames after the warm-up, and per
+    process: RSS at the first estimate, mean RSS in each tenth, growth [%], peak, mean CPU."""
+    tenth = (total - warmup) / 10.0
+    answered = [r for r in rows if r[2] > 0] or rows
+    first = [r for r in rows if warmup < r[1] <= warmup + tenth] or answered[:1]
+    last = [r for r in rows if r[1] >= total - tenth] or rows[-1:]
+    figures = {}
+    for name in names:
+        a = mean([r[4][name][0] for r in first if name in r[4]])
+        b = mean([r[4][name][0] for r in last if name in r[4]])
+        figures[name] = {
+            "start": answered[0][4][name][0] if answered and name in answered[0][4] else a,
+            "first": a, "last": b, "growth": 100.0 * (b - a) / a if a > 0 else float("nan"),
+            "peak": max((r[4][name][0] for r in rows if name in r[4]), default=float("nan")),
+            "cpu": mean([r[4][name][1] for r in rows if name in r[4]])}
+    return first, last, figures
+
+
+def plot(path, rows, names, figures, total, warmup, title):
+    """RSS per process against frames (log scale; the tenths shaded), RSS against its mean in the
+    first tenth (the 5 % limit dashed), and the pose rate."""
+    tenth = (total - warmup) / 10.0
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from matplotlib.ticker import NullFormatter, ScalarFormatter
+    fig, (top, middle, bottom) = plt.subplots(3, 1, sharex=True, figsize=(8, 8),
+                                              gridspec_kw={"height_ratios": [3, 2, 1]})
+    for name in sorted(names, key=lambda n: -figures[n]["peak"]):
+        xs = [r[1] for r in rows if name in r[4]]
+        top.plot(xs, [r[4][name][0] for r in rows if name in r[4]],
+                 label=f"{name}: {figures[name]['last']:.0f} MB, "
+                       f"{figures[name]['growth']:+.1f} %")
+        base = figures[name]["first"]
+        middle.plot(xs, [100.0 * (r[4][name][0] - base) / base for r in rows if name in r[4]],
+                    linewidth=1)
+    top.set_yscale("log")
+    top.set_yticks([v for v in (5, 10, 20, 50, 100, 200, 500, 1000, 2000)
+                    if 0.5 * min(f["peak"] for f in figures.values()) <= v
+                    <= 2 * max(f["peak"] for f in figures.values())] if figures else [])
+    top.yaxis.set_major_formatter(ScalarFormatter())
+    top.yaxis.set_minor_formatter(NullFormatter())
+    top.set_ylabel("resident memory [MB]")
+    top.set_title(title, fontsize=10)
+    top.legend(fontsize=7, loc="center right", title="last tenth, growth from the first",
+               title_fontsize=7)
+    top.grid(True, which="both", alpha=0.3)
+    for lo, hi, what in ((warmup, warmup + tenth, "first tenth"),
+                         (total - tenth, total, "last tenth")):
+        top.axvspan(lo, hi, color="grey", alpha=0.15, linewidth=0)
+        top.text((lo + hi) / 2, 0.02, what, transform=top.get_xaxis_transform(),
+                 ha="center", fontsize=7, color="dimgrey")
+    top.axvline(warmup, color="grey", linestyle=":", linewidth=1)
+    for y in (-5.0, 5.0):
+        middle.axhline(y, color="red", linestyle="--", linewidth=0.8)
+    middle.set_ylim(-10, 10)
+    middle.set_ylabel("RSS from the first\ntenth's mean [%]")
+    middle.grid(True, alpha=0.3)
+    bottom.plot([r[1] for r in rows], [r[3] for r in rows], color="black", linewidth=0.8)
+    bottom.set_ylabel("estimates/s")
+    bottom.set_xlabel("frames")
+    bottom.set_ylim(bottom=0)
+    bottom.grid(True, alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(path, dpi=80)
+    plt.close(fig)
+
+
+def replot(args):
+    """soak.png again from OUT/soak.csv (the figures as the run computed them)."""
+    with open(os.path.join(args.out, "soak.csv")) as f:
+        table = list(csv.reader(f))
+    names = [c[:-len(" rss_mb")] for c in table[0][4::2]]
+    rows = [(float(r[0]), int(r[1]), int(r[2]), float(r[3]),
+             {n: (float(r[4 + 2 * i]), float(r[5 + 2 * i])) for i, n in enumerate(names)})
+            for r in table[1:]]
+    figures = tenths(rows, names, args.frames, args.warmup)[2]
+    plot(os.path.join(args.out, "soak.png"), rows, names, figures, args.frames, args.warmup,
+         f"soak: {rows[-1][1]} frames, {args.about}")
+    return 0
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--launch-pid", type=int, required=True)
-    ap.add_argument("--status", required=True, help="the player's status file")
+    ap.add_argument("--launch-pid", type=int)
+    ap.add_argument("--status", help="the player's status file")
     ap.add_argument("--out", required=True)
     ap.add_argument("--frames", type=int, required=True)
     ap.add_argument("--period", type=float, default=5.0, help="[s] between samples")
@@ -127,7 +210,11 @@ def main():
     ap.add_argument("--command", default="")
     ap.add_argument("--commit", default="unknown")
     ap.add_argument("--about", default="", help="a line on what ran (bag, experiment)")
+    ap.add_argument("--replot", action="store_true",
+                    help="only draw OUT/soak.png again from OUT/soak.csv")
     args = ap.parse_args()
+    if args.replot:
+        return replot(args)
     failures = []
 
     def say(text):
@@ -156,6 +243,12 @@ def main():
                 procs[name] = pid
         say("watching " + ", ".join(f"{n} ({p})" for n, p in sorted(procs.items())))
     names = sorted(procs)
+    # soak.csv grows a row a sample, so that a long run can be watched (and survives its end).
+    os.makedirs(args.out, exist_ok=True)
+    table = open(os.path.join(args.out, "soak.csv"), "w", newline="", buffering=1)
+    writer = csv.writer(table)
+    writer.writerow(["time_s", "frames", "estimated", "pose_rate_hz"]
+                    + [c for n in names for c in (f"{n} rss_mb", f"{n} cpu_pct")])
     rows = []  # time_s, frames, valid, pose_rate, {name: (rss, cpu)}
     last_ticks = {}
     last_t, last_valid = None, None
@@ -179,6 +272,8 @@ def main():
         rate = float("nan") if last_t is None else (status["valid"] - last_valid) / (now - last_t)
         if not failures:
             rows.append((now - t0, status["frames"], status["valid"], rate, row))
+            writer.writerow([f"{now - t0:.1f}", status["frames"], status["valid"], f"{rate:.3f}"]
+                            + [f"{v:.2f}" for n in names for v in row[n]])
         last_t, last_valid = now, status["valid"]
         if status["done"] or failures:
             break
@@ -200,29 +295,9 @@ def main():
                 + ("" if math.isnan(rate) else f", pose rate {rate:.2f}/s"))
         time.sleep(max(0.0, args.period - (time.monotonic() - now)))
 
-    os.makedirs(args.out, exist_ok=True)
-    with open(os.path.join(args.out, "soak.csv"), "w", newline="") as f:
-        w = csv.writer(f)
-        w.writerow(["time_s", "frames", "estimated", "pose_rate_hz"]
-                   + [c for n in names for c in (f"{n} rss_mb", f"{n} cpu_pct")])
-        for t, frames, valid, rate, row in rows:
-            w.writerow([f"{t:.1f}", frames, valid, f"{rate:.3f}"]
-                       + [f"{v:.2f}" for n in names for v in row.get(n, (math.nan, math.nan))])
+    table.close()
 
-    # The tenths of the frames after the warm-up: the first, and the last.
-    tenth = (args.frames - args.warmup) / 10.0
-    answered = [r for r in rows if r[2] > 0] or rows
-    first = [r for r in rows if args.warmup < r[1] <= args.warmup + tenth] or answered[:1]
-    last = [r for r in rows if r[1] >= args.frames - tenth] or rows[-1:]
-    figures = {}
-    for name in names:
-        a = mean([r[4][name][0] for r in first if name in r[4]])
-        b = mean([r[4][name][0] for r in last if name in r[4]])
-        figures[name] = {
-            "start": answered[0][4][name][0] if answered and name in answered[0][4] else a,
-            "first": a, "last": b, "growth": 100.0 * (b - a) / a if a > 0 else float("nan"),
-            "peak": max((r[4][name][0] for r in rows if name in r[4]), default=float("nan")),
-            "cpu": mean([r[4][name][1] for r in rows if name in r[4]])}
+    first, last, figures = tenths(rows, names, args.frames, args.warmup)
     frames = status["frames"] if status else 0
     valid = status["valid"] if status else 0
     share = valid / frames if frames else 0.0
@@ -241,32 +316,8 @@ def main():
     elapsed = rows[-1][0] if rows else 0.0
 
     try:
-        import matplotlib
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-        fig, (top, bottom) = plt.subplots(2, 1, sharex=True, figsize=(8, 6),
-                                          gridspec_kw={"height_ratios": [3, 1]})
-        for name in sorted(names, key=lambda n: -figures[n]["peak"]):
-            xs = [r[1] for r in rows if name in r[4]]
-            top.plot(xs, [r[4][name][0] for r in rows if name in r[4]],
-                     label=f"{name}: {figures[name]['last']:.0f} MB, "
-                           f"{figures[name]['growth']:+.1f} %")
-        top.set_yscale("log")
-        top.set_ylabel("resident memory [MB]")
-        top.set_title(f"soak: {frames} frames, {args.about}", fontsize=10)
-        top.legend(fontsize=7, loc="center right", title="last tenth, growth from the first",
-                   title_fontsize=7)
-        top.grid(True, which="both", alpha=0.3)
-        for lo, hi in ((args.warmup, args.warmup + tenth), (args.frames - tenth, args.frames)):
-            top.axvspan(lo, hi, color="grey", alpha=0.15, linewidth=0)
-        top.axvline(args.warmup, color="grey", linestyle=":", linewidth=1)
-        bottom.plot([r[1] for r in rows], [r[3] for r in rows], color="black", linewidth=0.8)
-        bottom.set_ylabel("estimates/s")
-        bottom.set_xlabel("frames")
-        bottom.set_ylim(bottom=0)
-        bottom.grid(True, alpha=0.3)
-        fig.tight_layout()
-        fig.savefig(os.path.join(args.out, "soak.png"), dpi=80)
+        plot(os.path.join(args.out, "soak.png"), rows, names, figures, args.frames, args.warmup,
+             f"soak: {frames} frames, {args.about}")
     except Exception as e:  # the figures still count without the plot
         failures.append(f"soak.png not written: {e}")
 
