@@ -9,6 +9,7 @@
 #include <aar_ros_common/param_reader.h>
 #include <aar_ros_common/point_cloud.h>
 #include <aar_ros_common/receiver_params.h>
+#include <aar_ros_common/start_count.h>
 #include <aar_ros_common/tf_bridge.h>
 
 #include "aar_occlusion/ros/conversions.h"
@@ -89,6 +90,7 @@ OcclusionNode::OcclusionNode(ros::NodeHandle nh, ros::NodeHandle private_nh,
                                         << (step_->boom() ? step_->boom()->parts().size() : 0)
                                         << " boom parts, " << step_->reference_samples()
                                         << " reference samples");
+  aar_ros_common::AnnounceStart(private_nh, "occlusion");
 }
 
 OcclusionNode::~OcclusionNode() {

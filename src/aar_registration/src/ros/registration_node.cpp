@@ -11,6 +11,7 @@
 #include <aar_ros_common/param_reader.h>
 #include <aar_ros_common/point_cloud.h>
 #include <aar_ros_common/receiver_params.h>
+#include <aar_ros_common/start_count.h>
 #include <aar_ros_common/tf_bridge.h>
 #include <geometry_msgs/PoseWithCovarianceStamped.h>
 #include <tf2_eigen/tf2_eigen.h>
@@ -129,6 +130,7 @@ RegistrationNode::RegistrationNode(ros::NodeHandle nh, ros::NodeHandle private_n
     }
     cloud_sub_ = nh_.subscribe("points", 2, &RegistrationNode::OnCloud, this);
   }
+  aar_ros_common::AnnounceStart(private_nh, "registration");
 }
 
 RegistrationNode::~RegistrationNode() {

@@ -7,6 +7,7 @@
 #include <aar_geometry/mesh_io.h>
 #include <aar_ros_common/param_reader.h>
 #include <aar_ros_common/receiver_params.h>
+#include <aar_ros_common/start_count.h>
 #include <aar_ros_common/tf_bridge.h>
 
 #include <sensor_msgs/PointCloud2.h>
@@ -189,6 +190,7 @@ StereoNode::StereoNode(ros::NodeHandle nh, ros::NodeHandle private_nh,
                              nh_.resolveName("right"));
   diagnostics_.add("stereo", this, &StereoNode::Diagnose);
   input_timer_ = nh_.createWallTimer(ros::WallDuration(2.0), &StereoNode::CheckInputs, this);
+  aar_ros_common::AnnounceStart(private_nh_, "stereo");
 }
 
 StereoNode::~StereoNode() {
