@@ -7,12 +7,12 @@ when they start, and never again. A master that restarts on the same URI knows n
 the connections already made go on, but no new subscriber finds a publisher, a respawned node
 finds no parameters, and rostopic and rosnode see an empty graph. This node copies the master's
 registrations (getSystemState, each node's URI, the topic types, each service's URI) and the
-parameter tree every ~period seconds (default 0.5; five requests) while the master is up. When a master with
-another PID answers on the same URI, it sets the parameters back and registers again, in each
-node's name, the publishers, then the subscribers, then the services of every node that still
-answers. Publishers first: the master then has no subscriber to tell, and connections that exist
-are left alone. Not restored: what changed in the last period before the master died, and
-parameter subscriptions (getParamCached)."""
+parameter tree every ~period seconds (default 0.5; five requests) while the master is up. When
+a master with another PID answers on the same URI, it sets the parameters back and registers
+again, in each node's name, the publishers, then the subscribers, then the services of every
+node that still answers. Publishers first: the master then has no subscriber to tell, and
+connections that exist are left alone. Not restored: what changed in the last period before the
+master died, and parameter subscriptions (getParamCached)."""
 import os
 import sys
 import time
