@@ -7,9 +7,9 @@
 #include <aar_msgs/PoseError.h>
 #include <aar_msgs/PoseEstimate.h>
 #include <diagnostic_msgs/DiagnosticArray.h>
+#include <ros/ros.h>
 #include <rosgraph_msgs/Clock.h>
 #include <rosgraph_msgs/Log.h>
-#include <ros/ros.h>
 #include <sensor_msgs/point_cloud2_iterator.h>
 #include <tf2_eigen/tf2_eigen.h>
 #include <tf2_ros/static_transform_broadcaster.h>
@@ -417,10 +417,11 @@ TEST(Tracking, CoastsLosesReacquiresAndResetsOnStampsGoingBack) {
       5.0));
   step(receiver_at(0.3));  // 14: the track went on
   ASSERT_EQ(tracks.size(), 15u);
-  const std::vector<uint8_t> expected = {
-      E::TRACK_STARTED,  E::TRACK_ACCEPTED, E::TRACK_ACCEPTED, E::TRACK_ACCEPTED, E::TRACK_ACCEPTED,
-      E::TRACK_ACCEPTED, E::TRACK_REJECTED, E::TRACK_REJECTED, E::TRACK_LOST,     E::TRACK_STARTED,
-      E::TRACK_ACCEPTED, E::TRACK_ACCEPTED, E::TRACK_STARTED,  E::TRACK_ACCEPTED, E::TRACK_ACCEPTED};
+  const std::vector<uint8_t> expected = {E::TRACK_STARTED,  E::TRACK_ACCEPTED, E::TRACK_ACCEPTED,
+                                         E::TRACK_ACCEPTED, E::TRACK_ACCEPTED, E::TRACK_ACCEPTED,
+                                         E::TRACK_REJECTED, E::TRACK_REJECTED, E::TRACK_LOST,
+                                         E::TRACK_STARTED,  E::TRACK_ACCEPTED, E::TRACK_ACCEPTED,
+                                         E::TRACK_STARTED,  E::TRACK_ACCEPTED, E::TRACK_ACCEPTED};
   for (size_t k = 0; k < expected.size(); ++k) {
     EXPECT_EQ(static_cast<int>(tracks[k]), static_cast<int>(expected[k])) << "cloud " << k;
     EXPECT_EQ(valid[k], k != 8) << "cloud " << k;  // coasting is an estimate; lost is not

@@ -1,7 +1,7 @@
 #include <gtest/gtest.h>
 
-#include <cmath>
 #include <algorithm>
+#include <cmath>
 #include <map>
 #include <mutex>
 #include <regex>
@@ -295,20 +295,21 @@ TEST(Stamps, PairsThatComeLateAreDroppedAndNamed) {
   const ros::Time t0 = ros::Time::now();
   const ros::Duration d(0.1);
   const ros::Time late = t0 + ros::Duration(0.15);
-  const std::vector<ros::Time> sent = {t0, t0 + d, t0 + d * 2, late, t0 + d * 3, t0 + d * 3,
-                                       t0 + d * 4};
+  const std::vector<ros::Time> sent = {t0,         t0 + d,     t0 + d * 2, late,
+                                       t0 + d * 3, t0 + d * 3, t0 + d * 4};
   for (const ros::Time& stamp : sent) {
     f.Publish(GoodPair(stamp));
     ros::WallDuration(0.3).sleep();
   }
   aar_testing::WaitFor([&] { return f.points.size() >= 5; }, 10.0);
-  EXPECT_TRUE(f.errors.Wait("stereo: pair on /exact/left/image_rect and /exact/right/image_rect "
-                            "dropped: stamp " +
-                                Str(late) + " is 0.050 s before the last one taken, " +
-                                Str(t0 + d * 2) + ": out of order",
-                            5.0));
-  EXPECT_TRUE(f.errors.Wait("dropped: stamp " + Str(t0 + d * 3) + " repeats the last one taken",
-                            5.0));
+  EXPECT_TRUE(
+      f.errors.Wait("stereo: pair on /exact/left/image_rect and /exact/right/image_rect "
+                    "dropped: stamp " +
+                        Str(late) + " is 0.050 s before the last one taken, " + Str(t0 + d * 2) +
+                        ": out of order",
+                    5.0));
+  EXPECT_TRUE(
+      f.errors.Wait("dropped: stamp " + Str(t0 + d * 3) + " repeats the last one taken", 5.0));
   std::lock_guard<std::mutex> lock(f.points.mutex);
   EXPECT_EQ(f.points.by_stamp.count(late), 0u) << "a late pair gave a cloud";
   for (int k = 0; k <= 4; ++k)

@@ -256,8 +256,8 @@ void RegistrationNode::Register(const sensor_msgs::PointCloud2::ConstPtr& msg) {
   const std::string problem = StampProblem(msg->header.stamp);
   // A cloud older than the last one registered came late: the tracker must not go back in time
   // (it would start a new track), and its estimate would be stale. Dropped, without an estimate.
-  if (const std::string late = problem.empty() ? order_.Check(msg->header.stamp, ros::Time::now())
-                                               : std::string();
+  if (const std::string late =
+          problem.empty() ? order_.Check(msg->header.stamp, ros::Time::now()) : std::string();
       !late.empty()) {
     const std::string what =
         "registration: cloud on " + nh_.resolveName("points") + " dropped, no estimate: " + late;

@@ -51,7 +51,7 @@ struct StereoNodeOptions {
   // [s] approximate sync: a pair whose four stamps (images, camera infos) span more than this
   // is dropped, named: halves taken this far apart (one camera lagging) give a wrong cloud.
   double max_pair_skew = 0.01;
-  int queue_size = 5;             // synchroniser queue per input
+  int queue_size = 5;  // synchroniser queue per input
   // OpenCV's worker threads (cv::setNumThreads, process-wide); -1: OpenCV's default (all cores).
   int opencv_threads = -1;
   // [s] a pair older than this (ROS time now minus its stamp) when its turn comes is dropped:
