@@ -8,6 +8,7 @@
 // the measured values beside them.
 #include <gtest/gtest.h>
 
+#include <signal.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -100,12 +101,27 @@ class Graph {
 
   static bool Alive(int pid) { return ::kill(pid, 0) == 0; }
 
-  // roslaunch and its descendants: pid -> command line.
-  std::map<int, std::string> Processes() {
+  // roslaunch and its descendants: pid -> command line (one pass over /proc).
+  std::map<int, std::string> Processes() const {
+    std::map<int, std::vector<int>> children;
+    for (const auto& entry : std::filesystem::directory_iterator("/proc")) {
+      const std::string name = entry.path().filename();
+      if (name.find_first_not_of("0123456789") != std::string::npos) continue;
+      std::ifstream stat(entry.path() / "stat");
+      std::string line;
+      std::getline(stat, line);
+      // pid (comm) state ppid ...: comm may hold spaces, so read after its closing bracket.
+      const size_t close = line.rfind(')');
+      if (close == std::string::npos) continue;
+      std::istringstream rest(line.substr(close + 1));
+      std::string state;
+      int ppid = 0;
+      if (rest >> state >> ppid) children[ppid].push_back(std::stoi(name));
+    }
     std::map<int, std::string> tree;
     std::vector<int> next = {launch_pid_};
     while (!next.empty()) {
-      std::vector<int> children;
+      std::vector<int> deeper;
       for (int pid : next) {
         std::ifstream cmd("/proc/" + std::to_string(pid) + "/cmdline");
         std::string line;
@@ -113,24 +129,27 @@ class Graph {
         std::replace(line.begin(), line.end(), '\0', ' ');
         if (line.empty()) continue;
         tree[pid] = line;
-        std::istringstream kids(Sh("pgrep -P " + std::to_string(pid)).output);
-        for (int kid; kids >> kid;) children.push_back(kid);
+        for (int kid : children[pid]) deeper.push_back(kid);
       }
-      next = children;
+      next = deeper;
     }
     return tree;
   }
 
   // Sends `signal` (KILL, STOP, CONT) to the processes of the tree whose command line holds
-  // `pattern`; their PIDs.
-  std::vector<int> Signal(const std::string& pattern, const std::string& signal) {
+  // `pattern`; their PIDs. signalled_at(): when the last of them got it.
+  std::vector<int> Signal(const std::string& pattern, int signal) {
     std::vector<int> hit;
     for (const auto& [pid, cmd] : Processes()) {
       if (cmd.find(pattern) == std::string::npos || pid == launch_pid_) continue;
-      if (Sh("kill -" + signal + " " + std::to_string(pid)).status == 0) hit.push_back(pid);
+      if (::kill(pid, signal) == 0) {
+        signalled_at_ = Now();
+        hit.push_back(pid);
+      }
     }
     return hit;
   }
+  double signalled_at() const { return signalled_at_; }
 
   std::vector<ProbeRow> Probe() const {
     std::vector<ProbeRow> rows;
@@ -176,6 +195,7 @@ class Graph {
 
  private:
   int launch_pid_ = -1, probe_pid_ = -1;
+  double signalled_at_ = 0.0;
   std::vector<int> masters_;
 };
 
@@ -235,8 +255,8 @@ void KillStageAndResume(const std::string& test, const std::string& args,
   Graph g(test, kLive + " " + args);
   ASSERT_TRUE(g.WaitForEstimates(8, 90.0)) << g.Log();
   const auto before = g.Processes();
-  const double killed_at = Now();
-  const std::vector<int> killed = g.Signal(pattern, "KILL");
+  const std::vector<int> killed = g.Signal(pattern, SIGKILL);
+  const double killed_at = g.signalled_at();
   ASSERT_EQ(killed.size(), 1u) << pattern;
   // Come back: a new process; frames estimated again after it.
   Sleep(14.0);
@@ -274,15 +294,16 @@ void KillStageAndResume(const std::string& test, const std::string& args,
 // Separate processes (manager:=false): the node is respawned 1 s after it died, starts and
 // subscribes again.
 TEST(Faults, KilledStereoNodeComesBackAndEstimationResumes) {
-  // Measured: resumed 2.86 s after the kill, 5 frames lost.
+  // Measured: resumed 2.09 s after the kill (respawn_delay 1 s, start, the next frame), 3 frames
+  // lost.
   KillStageAndResume("stereo_node", "manager:=false", "__name:=aar_stereo", "stereo/aar_stereo",
-                     "/stereo/aar_stereo", 5.0, 10);
+                     "/stereo/aar_stereo", 3.0, 6);
 }
 
 TEST(Faults, KilledOcclusionNodeComesBackAndEstimationResumes) {
-  // Measured: resumed 2.78 s after the kill, 4 frames lost.
+  // Measured: resumed 1.91 s after the kill, 3 frames lost.
   KillStageAndResume("occlusion_node", "manager:=false", "__name:=occlusion", "occlusion",
-                     "/occlusion", 5.0, 10);
+                     "/occlusion", 3.0, 6);
 }
 
 // Nodelets (manager:=true, the default): killing the loader (`nodelet load`) does not stop the
@@ -290,15 +311,16 @@ TEST(Faults, KilledOcclusionNodeComesBackAndEstimationResumes) {
 // the respawned loader is refused ("Cannot load nodelet ... one exists with that name already")
 // and exits, and roslaunch respawns it again; the one after the unload loads a new nodelet.
 TEST(Faults, KilledStereoLoaderReloadsTheNodeletAndEstimationResumes) {
-  // Measured: resumed 4.55 s after the kill, 1 frame lost.
+  // Measured: resumed 4.81 s after the kill (the bond's 4 s, then a respawned loader's turn),
+  // 3 frames lost.
   KillStageAndResume("stereo_nodelet", "", "StereoNodelet", "stereo/aar_stereo",
-                     "/stereo/aar_stereo", 8.0, 10);
+                     "/stereo/aar_stereo", 7.0, 8);
 }
 
 TEST(Faults, KilledOcclusionLoaderReloadsTheNodeletAndEstimationResumes) {
-  // Measured: resumed 5.84 s after the kill, 4 frames lost.
-  KillStageAndResume("occlusion_nodelet", "", "OcclusionNodelet", "occlusion", "/occlusion", 8.0,
-                     12);
+  // Measured: resumed 4.44 s after the kill, 2 frames lost.
+  KillStageAndResume("occlusion_nodelet", "", "OcclusionNodelet", "occlusion", "/occlusion", 7.0,
+                     8);
 }
 
 // tf for the boom's links stops for 4 s and returns: robot_state_publisher, which turns the
@@ -310,11 +332,11 @@ TEST(Faults, BoomTfStallsFramesPassUnculledNamedThenCullingResumes) {
   Graph g("boom_tf", kLive);
   ASSERT_TRUE(g.WaitForEstimates(6, 90.0)) << g.Log();
   const auto before = g.Processes();
-  const double stopped_at = Now();
-  ASSERT_EQ(g.Signal("robot_state_publisher", "STOP").size(), 1u);
+  ASSERT_EQ(g.Signal("robot_state_publisher", SIGSTOP).size(), 1u);
+  const double stopped_at = g.signalled_at();
   Sleep(4.0);
-  const double continued_at = Now();
-  ASSERT_EQ(g.Signal("robot_state_publisher", "CONT").size(), 1u);
+  ASSERT_EQ(g.Signal("robot_state_publisher", SIGCONT).size(), 1u);
+  const double continued_at = g.signalled_at();
   Sleep(8.0);
   const double until = Now() - 3.0;  // later frames may still be on their way
   // Per frame: when it arrived, when occlusion published its boom points and how many, whether
@@ -360,10 +382,10 @@ TEST(Faults, BoomTfStallsFramesPassUnculledNamedThenCullingResumes) {
   EXPECT_EQ(in_stall_estimated, in_stall);
   // Keeping up: one tf_timeout (0.5 s) per frame, not one per missing link (it fell 3.7 s
   // behind and dropped frames).
-  EXPECT_LE(lag_s, 1.2);  // measured: 0.71 s
+  EXPECT_LE(lag_s, 1.2);  // measured: 0.71 to 0.74 s
   EXPECT_LE(lost, 1);     // measured: 0
   EXPECT_GE(culled_again_s, 0.0);
-  EXPECT_LE(culled_again_s, 2.0);  // measured: 0.76 s
+  EXPECT_LE(culled_again_s, 2.0);  // measured: 0.01 to 0.76 s
   EXPECT_GE(later, 6);
   EXPECT_EQ(culled_later, later);
   const std::string log = g.Log();
@@ -386,14 +408,14 @@ TEST(Faults, CameraMountsStalledWhileAStageRestartsNamedThenResumes) {
                         "/rosbags/sample_contact.bag rate:=0.1 realtime:=true manager:=false "
                         "output_dir:=%OUT%/eval");
   ASSERT_TRUE(g.WaitForEstimates(4, 90.0)) << g.Log();
-  const double stopped_at = Now();
-  ASSERT_EQ(g.Signal("__name:=tf_static_merge", "STOP").size(), 1u);
+  ASSERT_EQ(g.Signal("__name:=tf_static_merge", SIGSTOP).size(), 1u);
+  const double stopped_at = g.signalled_at();
   Sleep(2.5);
-  const double killed_at = Now();
-  ASSERT_EQ(g.Signal("__name:=occlusion", "KILL").size(), 1u);
+  ASSERT_EQ(g.Signal("__name:=occlusion", SIGKILL).size(), 1u);
+  const double killed_at = g.signalled_at();
   Sleep(6.0);
-  const double continued_at = Now();
-  ASSERT_EQ(g.Signal("__name:=tf_static_merge", "CONT").size(), 1u);
+  ASSERT_EQ(g.Signal("__name:=tf_static_merge", SIGCONT).size(), 1u);
+  const double continued_at = g.signalled_at();
   Sleep(10.0);
   const auto rows = g.Probe();
   // The running stages went on with the publisher stopped: frames before the kill estimated.
@@ -406,9 +428,10 @@ TEST(Faults, CameraMountsStalledWhileAStageRestartsNamedThenResumes) {
       "%d frames estimated\n",
       running.lost, all.lost, z.resume_s, z.estimated_after, z.after);
   EXPECT_EQ(running.lost, 0);
-  EXPECT_GE(all.lost, 4);  // the respawned node had no mounts
+  EXPECT_GE(all.lost, 2);  // the respawned node had no mounts (the player sends in bursts)
   EXPECT_GE(z.resume_s, 0.0);
-  EXPECT_LE(z.resume_s, 4.0);  // measured: ...
+  // Measured: 1.77 to 1.89 s; the loaded player sends frames in pairs up to 2 s apart.
+  EXPECT_LE(z.resume_s, 3.5);
   EXPECT_GE(z.after, 6);
   EXPECT_GE(z.estimated_after, z.after - 1);
   const std::string log = g.Log();
@@ -429,11 +452,11 @@ TEST(Faults, MasterRestartsGraphGoesOnAndIsRegisteredAgain) {
   Graph g("master", kLive, true);
   ASSERT_TRUE(g.WaitForEstimates(6, 90.0)) << g.Log();
   const int old_master = g.master();
+  ASSERT_EQ(::kill(old_master, SIGKILL), 0);
   const double killed_at = Now();
-  ASSERT_EQ(Sh("kill -9 " + std::to_string(old_master)).status, 0);
   Sleep(1.0);
-  g.StartMaster();
   const double restarted_at = Now();
+  g.StartMaster();
   double registered_s = -1.0;
   while (Now() < restarted_at + 10.0 && registered_s < 0.0) {
     if (g.Log().find("registrations made again") != std::string::npos)
@@ -444,8 +467,8 @@ TEST(Faults, MasterRestartsGraphGoesOnAndIsRegisteredAgain) {
   const auto echo = g.Run("timeout 15 rostopic echo -n 1 /aar/pose_estimate/valid");
   const auto param = g.Run("timeout 10 rosparam get /occlusion/tf_timeout");
   // A stage that restarts now gets what it needs from the new master.
-  const double reg_killed_at = Now();
-  const auto killed = g.Signal("RegistrationNodelet", "KILL");
+  const auto killed = g.Signal("RegistrationNodelet", SIGKILL);
+  const double reg_killed_at = g.signalled_at();
   Sleep(14.0);
   const auto rows = g.Probe();
   const Resumption across = Analyse(rows, killed_at, reg_killed_at, 1.5);
@@ -457,13 +480,16 @@ TEST(Faults, MasterRestartsGraphGoesOnAndIsRegisteredAgain) {
       across.lost, registered_s, z.resume_s, z.estimated_after, z.after);
   EXPECT_EQ(across.lost, 0);  // connections kept
   EXPECT_GE(registered_s, 0.0) << g.Log();
-  EXPECT_LE(registered_s, 2.0);  // measured: ...
+  EXPECT_LE(registered_s, 2.0);  // measured: 1.21 s (the new master's start-up and one period)
   EXPECT_EQ(echo.status, 0) << echo.output;
   EXPECT_NE(echo.output.find("True"), std::string::npos) << echo.output;
   EXPECT_EQ(param.status, 0) << param.output;
   ASSERT_EQ(killed.size(), 1u);
   EXPECT_GE(z.resume_s, 0.0) << g.Log();
-  EXPECT_LE(z.resume_s, 8.0);  // measured: ...
+  // Measured: no frame lost; the reloaded nodelet (reference: topic, nothing to build) was
+  // ready before the next frame.
+  EXPECT_LE(z.lost, 2);
+  EXPECT_GE(z.after, 10);
   EXPECT_GE(z.estimated_after, z.after - 1);
   EXPECT_NE(g.Log().find("/registration started again (start 2 under this master)"),
             std::string::npos);
