@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
-"""Relays ~input (default /tf_recorded) to ~output (default /tf) without the transforms whose
-child frame is in ~drop_child_frames (default [receiver]): a replayed flight keeps the
+"""Relays ~input (default /tf_recorded; "": none) to ~output (default /tf) without the transforms
+whose child frame is in ~drop_child_frames (default [receiver]): a replayed flight keeps the
 simulator's truth and the boom's links, but not the live run's estimates, which the replay
 makes anew.
 
@@ -25,7 +25,9 @@ def main():
         rospy.logfatal("tf_filter: ~outage_start and ~outage_duration must be finite, the "
                        "duration >= 0 (start %s, duration %s)", start, duration)
         raise SystemExit(1)
-    pub = rospy.Publisher(rospy.get_param("~output", "/tf"), TFMessage, queue_size=100)
+    source = rospy.get_param("~input", "/tf_recorded")  # "": relay no /tf, only merge static
+    pub = rospy.Publisher(rospy.get_param("~output", "/tf"), TFMessage, queue_size=100) \
+        if source else None
     state = {"in_outage": False}
 
     def relay(msg):
@@ -42,7 +44,8 @@ def main():
         if kept:
             pub.publish(TFMessage(transforms=kept))
 
-    rospy.Subscriber(rospy.get_param("~input", "/tf_recorded"), TFMessage, relay, queue_size=100)
+    if source:
+        rospy.Subscriber(source, TFMessage, relay, queue_size=100)
 
     static_input = rospy.get_param("~static_input", "")
     if static_input:

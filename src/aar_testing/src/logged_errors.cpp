@@ -17,14 +17,24 @@ LoggedErrors::LoggedErrors(ros::NodeHandle& nh, const std::string& node, uint8_t
 }
 
 bool LoggedErrors::Wait(const std::string& text, double timeout_s) {
-  return WaitFor(
+  return !WaitMessage(text, timeout_s).empty();
+}
+
+std::string LoggedErrors::WaitMessage(const std::string& text, double timeout_s) {
+  std::string found;
+  WaitFor(
       [&] {
         std::lock_guard<std::mutex> lock(mutex_);
-        for (const auto& e : errors_)
-          if (e.find(text) != std::string::npos) return true;
+        for (const auto& e : errors_) {
+          if (e.find(text) != std::string::npos) {
+            found = e;
+            return true;
+          }
+        }
         return false;
       },
       timeout_s);
+  return found;
 }
 
 }  // namespace aar_testing

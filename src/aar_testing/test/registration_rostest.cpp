@@ -8,6 +8,8 @@
 #include <aar_msgs/PoseEstimate.h>
 #include <diagnostic_msgs/DiagnosticArray.h>
 #include <ros/ros.h>
+#include <rosgraph_msgs/Clock.h>
+#include <rosgraph_msgs/Log.h>
 #include <sensor_msgs/point_cloud2_iterator.h>
 #include <tf2_eigen/tf2_eigen.h>
 #include <tf2_ros/static_transform_broadcaster.h>
@@ -316,11 +318,15 @@ TEST(TopicReference, PairsByStampUsesClassZeroAndAnswersWithoutReference) {
 // Tracking in the node: the receiver (every 8th dense sample) flies past "sensor" at 0.5 m/s, 10
 // clouds a second. Clouds with no receiver coast on the prediction (valid, TRACK_REJECTED) until
 // max_rejections (3) loses the track (invalid, TRACK_LOST); the receiver back starts a new one;
-// a cloud from the past (a bag loop) starts one again; a cloud of NaN points never gives a NaN
-// pose. Counts and the last event are on /diagnostics.
+// the clock and the stamps going back (a bag loop) start one again; a cloud that comes late (its
+// stamp before the last one, the clock going on) is dropped with a warning naming both stamps,
+// and the track goes on; a cloud of NaN points never gives a NaN pose. Counts and the last event
+// are on /diagnostics.
 TEST(Tracking, CoastsLosesReacquiresAndResetsOnStampsGoingBack) {
   ros::NodeHandle nh;
   ros::Publisher clouds = nh.advertise<sensor_msgs::PointCloud2>("/points", 20);
+  ros::Publisher clock = nh.advertise<rosgraph_msgs::Clock>("/clock", 5);
+  aar_testing::LoggedErrors warnings(nh, "/registration", rosgraph_msgs::Log::WARN);
   aar_testing::StampedCollector<aar_msgs::PoseEstimate> estimates(nh, "/aar/pose_estimate");
   std::mutex diagnostics_mutex;
   std::map<std::string, std::string> diagnostics;
@@ -334,7 +340,11 @@ TEST(Tracking, CoastsLosesReacquiresAndResetsOnStampsGoingBack) {
   tf2_ros::StaticTransformBroadcaster static_tf;
   static_tf.sendTransform(SensorMount());
   aar_testing::WaitFor(
-      [&] { return clouds.getNumSubscribers() > 0 && estimates.sub.getNumPublishers() > 0; }, 30.0);
+      [&] {
+        return clouds.getNumSubscribers() > 0 && clock.getNumSubscribers() > 0 &&
+               estimates.sub.getNumPublishers() > 0 && warnings.Connected();
+      },
+      30.0);
   ASSERT_GT(clouds.getNumSubscribers(), 0u);
   const auto dense = aar_geometry::SampleReceiver(
       aar_geometry::LoadMesh(aar_testing::ModelsDir() + "/receiver.obj"), {});
@@ -348,10 +358,20 @@ TEST(Tracking, CoastsLosesReacquiresAndResetsOnStampsGoingBack) {
   const std::vector<Eigen::Vector3f> nothing(30, Eigen::Vector3f(2000.0f, 0.0f, 0.0f));
   const float nan = std::numeric_limits<float>::quiet_NaN();
   const std::vector<Eigen::Vector3f> nans(30, Eigen::Vector3f(nan, nan, nan));
-  // Publishes one cloud at `t` [s] and waits for its estimate.
-  auto send = [&](double t, const std::vector<Eigen::Vector3f>& points) {
+  double t = 0.0, clock_s = 0.0;  // the next cloud's stamp and the clock [s after 100 s]
+  // The clock at `t` [s]; the next message sent comes after it.
+  auto set_clock = [&](double at) {
+    rosgraph_msgs::Clock c;
+    c.clock = ros::Time(100.0 + at);
+    clock.publish(c);
+    ros::WallDuration(0.05).sleep();
+  };
+  // Publishes one cloud at `t` [s] and waits for its estimate, the clock at `t` first.
+  auto send = [&](double at, const std::vector<Eigen::Vector3f>& points, double wait = 10.0) {
+    clock_s = std::max(at, clock_s);
+    set_clock(clock_s);
     auto cloud = Cloud("sensor", points);
-    cloud.header.stamp = ros::Time(100.0 + t);
+    cloud.header.stamp = ros::Time(100.0 + at);
     clouds.publish(cloud);
     aar_msgs::PoseEstimate::ConstPtr got;
     aar_testing::WaitFor(
@@ -361,13 +381,12 @@ TEST(Tracking, CoastsLosesReacquiresAndResetsOnStampsGoingBack) {
           if (it != estimates.by_stamp.end()) got = it->second;
           return got != nullptr;
         },
-        10.0);
+        wait);
     return got;
   };
   using E = aar_msgs::PoseEstimate;
   std::vector<uint8_t> tracks;
   std::vector<bool> valid;
-  double t = 0.0;
   auto step = [&](const std::vector<Eigen::Vector3f>& points) {
     const auto e = send(t, points);
     t += 0.1;
@@ -385,13 +404,24 @@ TEST(Tracking, CoastsLosesReacquiresAndResetsOnStampsGoingBack) {
   step(nans);
   step(nothing);                                       // 8: the third: lost
   for (int k = 0; k < 3; ++k) step(receiver_at(0.3));  // 9: started, 10-11 accepted
-  t = 0.25;                                            // 12: back in time
+  t = clock_s = 0.25;                                  // 12: the clock back too: a bag loop
   step(receiver_at(0.3));
-  ASSERT_EQ(tracks.size(), 13u);
-  const std::vector<uint8_t> expected = {
-      E::TRACK_STARTED,  E::TRACK_ACCEPTED, E::TRACK_ACCEPTED, E::TRACK_ACCEPTED, E::TRACK_ACCEPTED,
-      E::TRACK_ACCEPTED, E::TRACK_REJECTED, E::TRACK_REJECTED, E::TRACK_LOST,     E::TRACK_STARTED,
-      E::TRACK_ACCEPTED, E::TRACK_ACCEPTED, E::TRACK_STARTED};
+  step(receiver_at(0.3));  // 13: accepted
+  // A cloud that comes late, stamped before the last one, the clock going on: no estimate.
+  const auto late = send(0.32, receiver_at(0.3), 2.0);
+  EXPECT_FALSE(late) << "a late cloud was registered (track " << static_cast<int>(late->track)
+                     << ": " << late->track_reason << ")";
+  EXPECT_TRUE(warnings.Wait(
+      "registration: cloud on /points dropped, no estimate: stamp 100.320000000 is 0.030 s "
+      "before the last one taken, 100.350000000: out of order",
+      5.0));
+  step(receiver_at(0.3));  // 14: the track went on
+  ASSERT_EQ(tracks.size(), 15u);
+  const std::vector<uint8_t> expected = {E::TRACK_STARTED,  E::TRACK_ACCEPTED, E::TRACK_ACCEPTED,
+                                         E::TRACK_ACCEPTED, E::TRACK_ACCEPTED, E::TRACK_ACCEPTED,
+                                         E::TRACK_REJECTED, E::TRACK_REJECTED, E::TRACK_LOST,
+                                         E::TRACK_STARTED,  E::TRACK_ACCEPTED, E::TRACK_ACCEPTED,
+                                         E::TRACK_STARTED,  E::TRACK_ACCEPTED, E::TRACK_ACCEPTED};
   for (size_t k = 0; k < expected.size(); ++k) {
     EXPECT_EQ(static_cast<int>(tracks[k]), static_cast<int>(expected[k])) << "cloud " << k;
     EXPECT_EQ(valid[k], k != 8) << "cloud " << k;  // coasting is an estimate; lost is not
@@ -408,10 +438,11 @@ TEST(Tracking, CoastsLosesReacquiresAndResetsOnStampsGoingBack) {
   aar_testing::WaitFor(
       [&] {
         std::lock_guard<std::mutex> lock(diagnostics_mutex);
-        return diagnostics["frames"] == "13";
+        return diagnostics["frames"] == "15";
       },
       5.0);
   std::lock_guard<std::mutex> lock(diagnostics_mutex);
+  EXPECT_EQ(diagnostics["clouds dropped as out of order"], "1");
   EXPECT_EQ(diagnostics["frames lost"], "1");
   EXPECT_EQ(diagnostics["frames rejected"], "2");
   EXPECT_EQ(diagnostics["frames started"], "3");

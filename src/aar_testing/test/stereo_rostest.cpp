@@ -1,8 +1,11 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <mutex>
+#include <regex>
+#include <sstream>
 
 #include <aar_msgs/PoseEstimate.h>
 #include <ros/ros.h>
@@ -263,6 +266,101 @@ TEST(BadInput, PairsThatWaitedTooLongAreDroppedNotProcessedLate) {
   std::lock_guard<std::mutex> lock(f.points.mutex);
   EXPECT_EQ(f.points.by_stamp.count(late), 0u) << "a pair 2 s late was processed";
   EXPECT_EQ(f.points.by_stamp.count(fresh), 1u) << "a fresh pair after a late one gave no cloud";
+}
+
+// Waits until aar_stereo under `f` subscribed to all four inputs and its log can arrive.
+void WaitConnected(BadInputFixture& f) {
+  auto connected = [&f] {
+    return f.left.getNumSubscribers() > 0 && f.right.getNumSubscribers() > 0 &&
+           f.left_info.getNumSubscribers() > 0 && f.right_info.getNumSubscribers() > 0 &&
+           f.errors.Connected();
+  };
+  aar_testing::WaitFor(connected, 20.0);
+  ASSERT_TRUE(connected()) << "aar_stereo never subscribed to all four inputs";
+  ros::WallDuration(0.5).sleep();
+}
+
+std::string Str(const ros::Time& t) {
+  std::ostringstream s;
+  s << t;
+  return s.str();
+}
+
+// Pairs that come late (a stamp before the last pair's) or again: exact sync pairs them all the
+// same (message_filters' ExactTime signals any complete set), and their clouds would reach
+// occlusion and registration after newer ones. Dropped, named with both stamps; the node goes on.
+TEST(Stamps, PairsThatComeLateAreDroppedAndNamed) {
+  BadInputFixture f("/exact", rosgraph_msgs::Log::WARN);
+  WaitConnected(f);
+  const ros::Time t0 = ros::Time::now();
+  const ros::Duration d(0.1);
+  const ros::Time late = t0 + ros::Duration(0.15);
+  const std::vector<ros::Time> sent = {t0,         t0 + d,     t0 + d * 2, late,
+                                       t0 + d * 3, t0 + d * 3, t0 + d * 4};
+  for (const ros::Time& stamp : sent) {
+    f.Publish(GoodPair(stamp));
+    ros::WallDuration(0.3).sleep();
+  }
+  aar_testing::WaitFor([&] { return f.points.size() >= 5; }, 10.0);
+  EXPECT_TRUE(
+      f.errors.Wait("stereo: pair on /exact/left/image_rect and /exact/right/image_rect "
+                    "dropped: stamp " +
+                        Str(late) + " is 0.050 s before the last one taken, " + Str(t0 + d * 2) +
+                        ": out of order",
+                    5.0));
+  EXPECT_TRUE(
+      f.errors.Wait("dropped: stamp " + Str(t0 + d * 3) + " repeats the last one taken", 5.0));
+  std::lock_guard<std::mutex> lock(f.points.mutex);
+  EXPECT_EQ(f.points.by_stamp.count(late), 0u) << "a late pair gave a cloud";
+  for (int k = 0; k <= 4; ++k)
+    EXPECT_EQ(f.points.by_stamp.count(t0 + d * k), 1u) << "no cloud for the pair in order " << k;
+}
+
+// One camera lagging 50 ms (its image and camera info): approximate sync pairs halves taken
+// 50 ms apart, whose disparity mixes two poses of the receiver. Dropped and named with the left
+// and right stamps (max_pair_skew 0.01 s); within the bound (2 ms) the pairs give clouds. Exact
+// sync never pairs them: "stamps never match" (BadInput.ErrorsAreNamedFramesSkippedNodeAlive).
+TEST(Stamps, LaggingCameraGivesNoCloudFromHalvesTakenApart) {
+  BadInputFixture f("/approx", rosgraph_msgs::Log::WARN);
+  WaitConnected(f);
+  auto send = [&](double lag_s, std::vector<ros::Time>* left, std::vector<ros::Time>* right) {
+    for (int k = 0; k < 10; ++k) {
+      Pair p = GoodPair(ros::Time::now());
+      p.right.header.stamp += ros::Duration(lag_s);
+      p.right_info.header.stamp = p.right.header.stamp;
+      left->push_back(p.left.header.stamp);
+      right->push_back(p.right.header.stamp);
+      f.Publish(p);
+      ros::WallDuration(0.1).sleep();
+    }
+  };
+  std::vector<ros::Time> lagging_left, lagging_right, close_left, close_right;
+  send(0.05, &lagging_left, &lagging_right);
+  const std::string warning =
+      f.errors.WaitMessage("s apart, more than max_pair_skew (0.01 s): pair dropped", 5.0);
+  EXPECT_EQ(f.points.size(), 0u) << "halves taken 50 ms apart gave a cloud";
+  ASSERT_FALSE(warning.empty()) << "no warning for halves 50 ms apart";
+  std::printf("[ stereo ] %s\n", warning.c_str());
+  // Both stamps named: a left one and a right one of those sent, 50 ms apart.
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(
+      warning, m,
+      std::regex("/approx/left/image_rect ([0-9.]+) and /approx/right/image_rect ([0-9.]+)")))
+      << warning;
+  const double l = std::stod(m[1]), r = std::stod(m[2]);
+  EXPECT_TRUE(std::any_of(lagging_left.begin(), lagging_left.end(),
+                          [&](const ros::Time& t) { return std::abs(t.toSec() - l) < 1e-6; }));
+  EXPECT_TRUE(std::any_of(lagging_right.begin(), lagging_right.end(),
+                          [&](const ros::Time& t) { return std::abs(t.toSec() - r) < 1e-6; }));
+  EXPECT_NEAR(std::abs(r - l), 0.05, 0.005);
+
+  send(0.002, &close_left, &close_right);
+  aar_testing::WaitFor([&] { return f.points.size() >= 8; }, 5.0);
+  std::lock_guard<std::mutex> lock(f.points.mutex);
+  size_t matched = 0;
+  for (const ros::Time& t : close_left) matched += f.points.by_stamp.count(t);
+  EXPECT_GE(matched, 8u) << "pairs 2 ms apart gave too few clouds";  // the last may wait
+  for (const ros::Time& t : lagging_left) EXPECT_EQ(f.points.by_stamp.count(t), 0u);
 }
 
 // The disparity images that came after `after`, waiting up to 60 s for `n` of them.

@@ -9,6 +9,7 @@
 #include <aar_ros_common/param_reader.h>
 #include <aar_ros_common/point_cloud.h>
 #include <aar_ros_common/receiver_params.h>
+#include <aar_ros_common/start_count.h>
 #include <aar_ros_common/tf_bridge.h>
 
 #include "aar_occlusion/ros/conversions.h"
@@ -89,6 +90,7 @@ OcclusionNode::OcclusionNode(ros::NodeHandle nh, ros::NodeHandle private_nh,
                                         << (step_->boom() ? step_->boom()->parts().size() : 0)
                                         << " boom parts, " << step_->reference_samples()
                                         << " reference samples");
+  aar_ros_common::AnnounceStart(private_nh, "occlusion");
 }
 
 OcclusionNode::~OcclusionNode() {
@@ -150,8 +152,12 @@ void OcclusionNode::OnCloud(const sensor_msgs::PointCloud2::ConstPtr& msg) {
     in.right_eye = T_right->translation();
     in.volumes_wanted = markers_pub_.getNumSubscribers() > 0;
     if (step_->NeedsLinks(in.volumes_wanted)) {
+      // One missing link leaves the boom unplaced: waiting tf_timeout for each of the others
+      // too would put the stage behind the frames for as long as their tf is missing.
       for (const auto& link : step_->boom_links()) {
-        if (auto T = Lookup(link, msg->header.stamp, &in.links_error)) in.T_tanker_links[link] = *T;
+        auto T = Lookup(link, msg->header.stamp, &in.links_error);
+        if (!T) break;
+        in.T_tanker_links[link] = *T;
       }
     }
     if (step_->builds_reference())

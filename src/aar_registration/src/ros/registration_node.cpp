@@ -11,6 +11,7 @@
 #include <aar_ros_common/param_reader.h>
 #include <aar_ros_common/point_cloud.h>
 #include <aar_ros_common/receiver_params.h>
+#include <aar_ros_common/start_count.h>
 #include <aar_ros_common/tf_bridge.h>
 #include <geometry_msgs/PoseWithCovarianceStamped.h>
 #include <tf2_eigen/tf2_eigen.h>
@@ -129,6 +130,7 @@ RegistrationNode::RegistrationNode(ros::NodeHandle nh, ros::NodeHandle private_n
     }
     cloud_sub_ = nh_.subscribe("points", 2, &RegistrationNode::OnCloud, this);
   }
+  aar_ros_common::AnnounceStart(private_nh, "registration");
 }
 
 RegistrationNode::~RegistrationNode() {
@@ -251,10 +253,21 @@ void RegistrationNode::Register(const sensor_msgs::PointCloud2::ConstPtr& msg) {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - received)
         .count();
   };
+  const std::string problem = StampProblem(msg->header.stamp);
+  // A cloud older than the last one registered came late: the tracker must not go back in time
+  // (it would start a new track), and its estimate would be stale. Dropped, without an estimate.
+  if (const std::string late =
+          problem.empty() ? order_.Check(msg->header.stamp, ros::Time::now()) : std::string();
+      !late.empty()) {
+    const std::string what =
+        "registration: cloud on " + nh_.resolveName("points") + " dropped, no estimate: " + late;
+    if (errors_.ShouldLog(what))
+      ROS_WARN_STREAM(what << " (" << order_.dropped() << " dropped so far)");
+    return;
+  }
   RegistrarResult result;
   try {
-    if (const std::string problem = StampProblem(msg->header.stamp); !problem.empty())
-      throw std::runtime_error(problem);
+    if (!problem.empty()) throw std::runtime_error(problem);
     // The registrar says so too, but only after the tf wait this saves.
     if (!registrar_.has_reference()) throw std::runtime_error("no reference model yet");
     std::string error;
@@ -327,6 +340,7 @@ void RegistrationNode::Diagnose(diagnostic_updater::DiagnosticStatusWrapper& sta
   std::lock_guard<std::mutex> lock(report_mutex_);
   status.add("frames", frames_);
   status.add("frames estimated", estimates_);
+  status.add("clouds dropped as out of order", order_.dropped());
   status.add("tracking", options_.registrar.track);
   for (const auto& [outcome, count] : outcomes_)
     status.add(std::string("frames ") + ToString(outcome), count);

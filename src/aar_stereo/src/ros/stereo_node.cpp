@@ -1,11 +1,13 @@
 #include "aar_stereo/ros/stereo_node.h"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
 #include <aar_geometry/mesh_io.h>
 #include <aar_ros_common/param_reader.h>
 #include <aar_ros_common/receiver_params.h>
+#include <aar_ros_common/start_count.h>
 #include <aar_ros_common/tf_bridge.h>
 
 #include <sensor_msgs/PointCloud2.h>
@@ -60,6 +62,7 @@ StereoNodeOptions LoadStereoNodeOptions(const ros::NodeHandle& nh) {
   StereoNodeOptions o;
   aar_ros_common::ParamReader params(nh);
   o.approximate_sync = params.Get("approximate_sync", o.approximate_sync);
+  o.max_pair_skew = params.GetNonNegative("max_pair_skew", o.max_pair_skew);
   o.opencv_threads = params.Get("opencv_threads", o.opencv_threads);
   o.max_frame_age = params.Get("max_frame_age", o.max_frame_age);
   params.Check(o.max_frame_age >= 0.0, "max_frame_age", "must be >= 0 [s] (0: off)");
@@ -185,6 +188,7 @@ StereoNode::StereoNode(ros::NodeHandle nh, ros::NodeHandle private_nh,
                              nh_.resolveName("right"));
   diagnostics_.add("stereo", this, &StereoNode::Diagnose);
   input_timer_ = nh_.createWallTimer(ros::WallDuration(2.0), &StereoNode::CheckInputs, this);
+  aar_ros_common::AnnounceStart(private_nh_, "stereo");
 }
 
 StereoNode::~StereoNode() {
@@ -244,6 +248,33 @@ void StereoNode::OnFrame(const Image::ConstPtr& left, const Info::ConstPtr& left
   {
     std::lock_guard<std::mutex> lock(input_mutex_);
     last_frame_ = ros::WallTime::now();
+  }
+  const ros::Time& stamp = left->header.stamp;
+  // Halves from different instants (approximate sync, one camera lagging): the disparity
+  // would mix two poses of the receiver. Exact sync pairs equal stamps only.
+  const ros::Time first = std::min({stamp, left_info->header.stamp, right->header.stamp,
+                                    right_info->header.stamp}),
+                  last = std::max({stamp, left_info->header.stamp, right->header.stamp,
+                                   right_info->header.stamp});
+  if ((last - first).toSec() > options_.max_pair_skew) {
+    ++skewed_;
+    std::ostringstream s;
+    s << "stereo: " << left_sub_.getTopic() << " " << stamp << " and " << right_sub_.getTopic()
+      << " " << right->header.stamp << " (camera infos " << left_info->header.stamp << ", "
+      << right_info->header.stamp << ") are " << (last - first).toSec()
+      << " s apart, more than max_pair_skew (" << options_.max_pair_skew
+      << " s): pair dropped, is one camera lagging? " << skewed_ << " dropped so far";
+    if (errors_.ShouldLog(s.str())) ROS_WARN_STREAM(s.str());
+    return;
+  }
+  // A pair older than the last one taken came late (out of order): its cloud would reach the
+  // stages after a newer one's. Dropped, named with both stamps.
+  if (const std::string late = order_.Check(stamp, ros::Time::now()); !late.empty()) {
+    const std::string what = "stereo: pair on " + left_sub_.getTopic() + " and " +
+                             right_sub_.getTopic() + " dropped: " + late;
+    if (errors_.ShouldLog(what))
+      ROS_WARN_STREAM(what << " (" << order_.dropped() << " dropped so far)");
+    return;
   }
   // Behind real time: a pair that waited too long is dropped, so that the next one is fresh.
   if (options_.max_frame_age > 0.0) {
@@ -381,6 +412,8 @@ void StereoNode::Diagnose(diagnostic_updater::DiagnosticStatusWrapper& status) {
   status.add("frames", static_cast<uint64_t>(frames_));
   status.add("skipped frames", static_cast<uint64_t>(skipped_));
   status.add("frames dropped as stale (max_frame_age)", static_cast<uint64_t>(stale_));
+  status.add("pairs dropped as out of order", order_.dropped());
+  status.add("pairs dropped, halves apart (max_pair_skew)", static_cast<uint64_t>(skewed_));
   status.add("points (last frame)", last_points_);
   status.add("matching [ms]", last_timings_.matching_ms);
   status.add("reprojection [ms]", last_timings_.reprojection_ms);

@@ -17,6 +17,8 @@ class LoggedErrors {
 
   // True once an error containing `text` was logged, within `timeout_s` [s wall].
   bool Wait(const std::string& text, double timeout_s);
+  // The first message containing `text`, waiting up to `timeout_s` [s wall]; empty if none came.
+  std::string WaitMessage(const std::string& text, double timeout_s);
   // True once /rosout has a publisher (the node's logs can arrive).
   bool Connected() const { return sub_.getNumPublishers() > 0; }
 

@@ -10,6 +10,7 @@
 #include <aar_geometry/triangle_mesh.h>
 #include <aar_ros_common/error_throttle.h>
 #include <aar_ros_common/frames.h>
+#include <aar_ros_common/stamp_order.h>
 #include <diagnostic_updater/diagnostic_updater.h>
 #include <message_filters/subscriber.h>
 #include <message_filters/time_synchronizer.h>
@@ -90,6 +91,7 @@ class RegistrationNode {
   std::mutex mutex_;  // the registrar
   Registrar registrar_;
   aar_ros_common::ErrorThrottle errors_;
+  aar_ros_common::StampOrder order_;  // clouds are registered in stamp order
 
   diagnostic_updater::Updater diagnostics_;
   ros::WallTimer diagnostics_timer_;

@@ -4,6 +4,7 @@
 #include <aar_ros_common/error_throttle.h>
 #include <aar_ros_common/estimate_listener.h>
 #include <aar_ros_common/frames.h>
+#include <aar_ros_common/stamp_order.h>
 #include <atomic>
 #include <map>
 #include <memory>
@@ -47,7 +48,10 @@ struct StereoRoiOptions {
 
 struct StereoNodeOptions {
   bool approximate_sync = false;  // pair images whose stamps differ (unsynchronised cameras)
-  int queue_size = 5;             // synchroniser queue per input
+  // [s] approximate sync: a pair whose four stamps (images, camera infos) span more than this
+  // is dropped, named: halves taken this far apart (one camera lagging) give a wrong cloud.
+  double max_pair_skew = 0.01;
+  int queue_size = 5;  // synchroniser queue per input
   // OpenCV's worker threads (cv::setNumThreads, process-wide); -1: OpenCV's default (all cores).
   int opencv_threads = -1;
   // [s] a pair older than this (ROS time now minus its stamp) when its turn comes is dropped:
@@ -112,7 +116,8 @@ class StereoNode {
   ros::WallTimer input_timer_;
 
   diagnostic_updater::Updater diagnostics_;
-  std::atomic<uint64_t> frames_{0}, skipped_{0}, stale_{0};
+  std::atomic<uint64_t> frames_{0}, skipped_{0}, stale_{0}, skewed_{0};
+  aar_ros_common::StampOrder order_;  // pairs are taken in stamp order
   std::mutex stats_mutex_;
   StereoTimings last_timings_;
   size_t last_points_ = 0;
