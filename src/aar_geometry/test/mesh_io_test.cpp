@@ -217,7 +217,7 @@ TEST(LoadMeshErrors, MalformedFiles) {
   ExpectLoadError(dir.Write("cut.dae", dae.substr(0, dae.size() / 2)), "not a readable mesh");
   // PLY whose header promises more vertices than follow.
   ExpectLoadError(dir.Write("short.ply", std::string(kCubePly).substr(0, 200)),
-                  "face with no vertices");
+                  "PLY line 13: too few values for element 'vertex'");
   // PLY cut off inside its header (assimp loops forever on it) and COLLADA with a letter in an
   // index list (assimp's memory runs away): both refused before assimp sees them.
   ExpectLoadError(dir.Write("header_cut.ply", "ply\nformat ascii"), "PLY header is incomplete");
@@ -252,6 +252,31 @@ TEST(LoadMeshErrors, MalformedAsciiStl) {
                   "ASCII STL line 1: solid name of 1024 characters or more");
   ExpectLoadError(dir.Write("letters.stl", "solid s\n" + facet.substr(0, 40) + "x 0 0\n"),
                   "vertex needs three numbers, found 'x'");
+}
+
+// PLY that Debian's assimp reads out of bounds (SIGSEGV: a binary body right after
+// "end_header", no line end) or leaks on (an ASCII line it cannot parse): refused first, saying
+// where (the mesh fuzz target found both).
+TEST(LoadMeshErrors, MalformedPly) {
+  test::TempDir dir;
+  const std::string header =
+      "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float "
+      "y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header";
+  const float vertices[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+  const int32_t face[3] = {0, 1, 2};
+  std::string body(reinterpret_cast<const char*>(vertices), sizeof(vertices));
+  body += '\x03';
+  body.append(reinterpret_cast<const char*>(face), sizeof(face));
+  EXPECT_EQ(LoadMesh(dir.Write("triangle.ply", header + "\n" + body)).triangles.size(), 1u);
+  ExpectLoadError(dir.Write("unended.ply", header + "*" + body),
+                  "PLY end_header must end its line");
+  ExpectLoadError(dir.Write("short_binary.ply", header + "\n" + body.substr(0, 40)),
+                  "PLY body ends inside instance 0 of element 'face' (of 1)");
+  ExpectLoadError(dir.Write("letters.ply",
+                            "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty "
+                            "float y\nproperty float z\nelement face 1\nproperty list uchar int "
+                            "vertex_indices\nend_header\n0 0 0\n1 0 0x\n0 1 0\n3 0 1 2\n"),
+                  "PLY line 11: '0x' is not a number");
 }
 
 }  // namespace
