@@ -1,6 +1,7 @@
 #include "aar_ros_common/param_reader.h"
 
 #include <climits>
+#include <cmath>
 #include <sstream>
 
 namespace aar_ros_common {
@@ -112,7 +113,13 @@ void ParamReader::Convert(const std::string& name, const XmlRpcValue& value, dou
   Check(
       value.getType() == XmlRpcValue::TypeDouble, name,
       std::string("has the wrong type (a number expected, not ") + TypeName(value.getType()) + ")");
-  out = static_cast<const double&>(value);
+  const double d = static_cast<const double&>(value);
+  // YAML's .nan and .inf: no setting means either (the params fuzz target found the simulator
+  // taking camera_x .nan and stamp_offset .inf).
+  std::ostringstream rule;
+  rule << "must be a finite number, not " << d;
+  Check(std::isfinite(d), name, rule.str());
+  out = d;
 }
 
 void ParamReader::Convert(const std::string& name, const XmlRpcValue& value,

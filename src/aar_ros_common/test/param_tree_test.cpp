@@ -72,6 +72,19 @@ TEST(ParamTree, AnIntTakesOnlyAWholeDoubleInRange) {
   EXPECT_NE(ErrorOf([&] { params.Get("nan", 0); }).find("not nan"), std::string::npos);
 }
 
+// YAML's .nan and .inf are numbers to rosparam, but no setting means either: the params fuzz
+// target found the simulator taking camera_x .nan and stamp_offset .inf.
+TEST(ParamTree, ADoubleMustBeFinite) {
+  XmlRpcValue tree;
+  tree["sim"]["camera_x"] = std::nan("");
+  tree["sim"]["stamp_offset"] = HUGE_VAL;
+  ParamReader params(tree, "/sim");
+  EXPECT_EQ(ErrorOf([&] { params.Get("camera_x", -20.0); }),
+            "parameter /sim/camera_x must be a finite number, not nan");
+  EXPECT_EQ(ErrorOf([&] { params.Get("stamp_offset", 1.0); }),
+            "parameter /sim/stamp_offset must be a finite number, not inf");
+}
+
 TEST(ParamTree, RejectsKeysNobodyReadAsOverTheServer) {
   ParamReader params(Tree(), "/stereo/aar_stereo");
   for (const char* key : {"rate", "count", "whole", "half", "huge", "nan", "flag"})

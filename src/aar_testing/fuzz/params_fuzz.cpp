@@ -163,11 +163,19 @@ void SetLaunchParameters(XmlRpcValue& tree) {
   Set(tree, {"eval", "output_dir"}, XmlRpcValue("/tmp/aar_fuzz_results"));
 }
 
-// Each node's loader on the tree; the stereo settings it accepted must make a matcher.
+// Each node's loader on the tree. What a loader accepted must be usable: the simulator's rig and
+// clock finite, the stereo settings a valid matcher, the registration's nominal pose finite.
 void LoadEveryNode(const XmlRpcValue& tree) {
   try {
     aar_ros_common::ParamReader params(tree, "/sim");
-    aar_sim::LoadSimNodeOptions(params);
+    const aar_sim::SimNodeOptions o = aar_sim::LoadSimNodeOptions(params);
+    const aar_sim::StereoRig& rig = o.world.rig;
+    FUZZ_CHECK(rig.T_tanker_left_optical.matrix().allFinite() && std::isfinite(rig.baseline) &&
+                   std::isfinite(rig.intrinsics.fx) && std::isfinite(rig.intrinsics.cx),
+               "the simulator accepted a rig that is not finite");
+    for (const double v : {o.rate, o.start_time, o.lockstep_timeout, o.start_delay, o.stamp_offset,
+                           o.world.renderer.noise_stddev, o.world.renderer.sky_level})
+      FUZZ_CHECK(std::isfinite(v), "the simulator accepted a setting that is not finite");
   } catch (const std::invalid_argument&) {
   }
   std::optional<aar_stereo::StereoConfig> stereo;
@@ -189,7 +197,9 @@ void LoadEveryNode(const XmlRpcValue& tree) {
   }
   try {
     aar_ros_common::ParamReader params(tree, "/registration");
-    aar_registration::LoadRegistrationNodeOptions(params);
+    const auto o = aar_registration::LoadRegistrationNodeOptions(params);
+    FUZZ_CHECK(o.registrar.T_tanker_receiver_nominal.matrix().allFinite(),
+               "registration accepted a nominal pose that is not finite");
   } catch (const std::invalid_argument&) {
   }
   try {

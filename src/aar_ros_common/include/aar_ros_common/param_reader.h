@@ -16,9 +16,9 @@ namespace aar_ros_common {
 // and RejectUnknown refuses any key under ~ that nobody asked for, so a misspelt key stops the
 // node instead of being ignored. Every error names the key with the node's namespace.
 //
-// Values are read as XmlRpcValues and converted here, with roscpp's rules but one: an int key
+// Values are read as XmlRpcValues and converted here, with roscpp's rules but two: an int key
 // takes a double only when it is a whole number in int's range (roscpp rounds any double and
-// converts 1e10 with undefined behaviour).
+// converts 1e10 with undefined behaviour), and a double must be finite (YAML's .nan, .inf).
 class ParamReader {
  public:
   // The parameter server, below private_nh's namespace.
