@@ -109,7 +109,7 @@ TEST(Conversions, EmptyCloudHasFieldsAndNoPoints) {
   EXPECT_EQ(msg->width, 0u);
   EXPECT_EQ(msg->height, 1u);
   EXPECT_EQ(msg->fields.size(), 3u);
-  EXPECT_EQ(msg->point_step, 12u);
+  EXPECT_EQ(msg->point_step, 16u);  // sensor_msgs pads "xyz" to 16 bytes
   EXPECT_TRUE(msg->data.empty());
 }
 

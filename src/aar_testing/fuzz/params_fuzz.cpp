@@ -228,11 +228,11 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   LoadEveryNode(root);
 
   XmlRpcValue nodes;  // a node file, loaded into each node's namespace
-  for (const std::vector<std::string> ns : {std::vector<std::string>{"sim"},
-                                            {"stereo", "aar_stereo"},
-                                            {"occlusion"},
-                                            {"registration"},
-                                            {"eval"}})
+  for (const std::vector<std::string>& ns : {std::vector<std::string>{"sim"},
+                                             {"stereo", "aar_stereo"},
+                                             {"occlusion"},
+                                             {"registration"},
+                                             {"eval"}})
     Set(nodes, ns, file);
   SetLaunchParameters(nodes);
   LoadEveryNode(nodes);
