@@ -11,6 +11,7 @@
 #include <iomanip>
 #include <iterator>
 #include <map>
+#include <optional>
 #include <sstream>
 
 #include <assimp/postprocess.h>
@@ -26,6 +27,23 @@ namespace {
 std::string Lowercase(std::string s) {
   for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   return s;
+}
+
+// The value of attribute `name` in an XML start tag ("<tag a=\"1\" b='2'"), if it has one.
+std::optional<std::string> XmlAttribute(const std::string& start_tag, const std::string& name) {
+  for (size_t at = start_tag.find(name); at != std::string::npos;
+       at = start_tag.find(name, at + 1)) {
+    if (at == 0 || !std::isspace(static_cast<unsigned char>(start_tag[at - 1]))) continue;
+    size_t eq = start_tag.find_first_not_of(" \t\r\n", at + name.size());
+    if (eq == std::string::npos || start_tag[eq] != '=') continue;
+    const size_t quote = start_tag.find_first_not_of(" \t\r\n", eq + 1);
+    if (quote == std::string::npos || (start_tag[quote] != '"' && start_tag[quote] != '\''))
+      continue;
+    const size_t end = start_tag.find(start_tag[quote], quote + 1);
+    if (end == std::string::npos) return std::nullopt;
+    return start_tag.substr(quote + 1, end - quote - 1);
+  }
+  return std::nullopt;
 }
 
 // An ASCII STL as the standard writes it: solids of facets, each "facet normal n n n / outer
@@ -316,27 +334,82 @@ void CheckStructure(const std::string& path) {
     return;
   }
   // COLLADA number lists: <p>, <v>, <vcount>, <h>, <int_array>, <float_array>. (A plain scan:
-  // std::regex recurses per character and overflows the stack on large arrays.)
+  // std::regex recurses per character and overflows the stack on large arrays.) An array must
+  // say how many values it holds and hold that many, and an accessor must stay inside its array:
+  // assimp dereferences a null pointer on an array without a count (SIGSEGV, found by the mesh
+  // fuzz target) and reads past an array that is shorter than its count or its accessors.
   static const std::vector<std::string> kLists = {"p", "v",         "vcount",
                                                   "h", "int_array", "float_array"};
+  const auto line_of = [&](size_t at) {
+    return std::to_string(std::count(text.begin(), text.begin() + static_cast<long>(at), '\n') + 1);
+  };
+  std::map<std::string, uint64_t> array_counts;  // by id
+  struct Accessor {
+    std::string source;
+    uint64_t count, stride, offset;
+    size_t at;
+  };
+  std::vector<Accessor> accessors;
   for (size_t open = text.find('<'); open != std::string::npos; open = text.find('<', open + 1)) {
     const size_t name_end = text.find_first_of(" \t\r\n/>", open + 1);
     if (name_end == std::string::npos) break;
     const std::string tag = text.substr(open + 1, name_end - open - 1);
-    if (std::find(kLists.begin(), kLists.end(), tag) == kLists.end()) continue;
+    const bool array = tag == "float_array" || tag == "int_array";
+    if (tag != "accessor" && std::find(kLists.begin(), kLists.end(), tag) == kLists.end()) continue;
     const size_t body = text.find('>', name_end);
-    if (body == std::string::npos || text[body - 1] == '/') continue;
-    const size_t close = text.find('<', body + 1);
+    if (body == std::string::npos) throw LoadError(path, "COLLADA <" + tag + "> is not closed");
+    const std::string start_tag = text.substr(open, body - open);
+    // A whole number attribute of the start tag (`fallback` when absent and allowed).
+    const auto number = [&](const std::string& name, std::optional<uint64_t> fallback) {
+      const auto value = XmlAttribute(start_tag, name);
+      if (!value && fallback) return *fallback;
+      if (!value || value->empty() || value->size() > 12 ||
+          value->find_first_not_of("0123456789") != std::string::npos) {
+        throw LoadError(path, "COLLADA <" + tag + "> (line " + line_of(open) + ") needs a " + name +
+                                  " that is a whole number" +
+                                  (value ? ", not '" + *value + "'" : ""));
+      }
+      return static_cast<uint64_t>(std::stoull(*value));
+    };
+    if (tag == "accessor") {
+      const auto source = XmlAttribute(start_tag, "source");
+      accessors.push_back({source ? *source : "", number("count", std::nullopt),
+                           number("stride", 1), number("offset", 0), open});
+      continue;
+    }
+    const bool empty = text[body - 1] == '/';
+    const size_t close = empty ? body : text.find('<', body + 1);
     if (close == std::string::npos) throw LoadError(path, "COLLADA <" + tag + "> is not closed");
     const bool floats = tag == "float_array";
     const size_t bad =
         text.find_first_not_of(floats ? "0123456789+-.eE \t\r\n" : "0123456789- \t\r\n", body + 1);
-    if (bad < close) {
-      const long line = std::count(text.begin(), text.begin() + static_cast<long>(bad), '\n') + 1;
+    if (!empty && bad < close) {
       throw LoadError(path, "COLLADA <" + tag + "> list holds a non-numeric character '" +
-                                text.substr(bad, 1) + "' (line " + std::to_string(line) + ")");
+                                text.substr(bad, 1) + "' (line " + line_of(bad) + ")");
+    }
+    if (array) {
+      uint64_t values = 0;
+      std::istringstream list(empty ? std::string() : text.substr(body + 1, close - body - 1));
+      for (std::string value; list >> value;) ++values;
+      const uint64_t count = number("count", std::nullopt);
+      if (count != values) {
+        throw LoadError(path, "COLLADA <" + tag + "> (line " + line_of(open) + ") says count " +
+                                  std::to_string(count) + " but holds " + std::to_string(values) +
+                                  " values");
+      }
+      if (const auto id = XmlAttribute(start_tag, "id")) array_counts[*id] = count;
     }
     open = close;
+  }
+  for (const auto& a : accessors) {
+    const auto array = array_counts.find(a.source.substr(a.source.rfind('#', 0) == 0));
+    if (array == array_counts.end()) continue;  // another kind of array: assimp checks it
+    if (a.offset + a.count * a.stride > array->second) {
+      throw LoadError(path, "COLLADA <accessor> (line " + line_of(a.at) + ") reads " +
+                                std::to_string(a.count) + " elements of stride " +
+                                std::to_string(a.stride) + " from '" + array->first +
+                                "', which holds " + std::to_string(array->second) + " values");
+    }
   }
 }
 

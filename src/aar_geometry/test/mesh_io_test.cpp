@@ -254,6 +254,29 @@ TEST(LoadMeshErrors, MalformedAsciiStl) {
                   "vertex needs three numbers, found 'x'");
 }
 
+// COLLADA arrays that Debian's assimp dereferences a null pointer on (SIGSEGV: a float_array
+// without a count, found by the mesh fuzz target) or reads past (a count above the values held,
+// an accessor beyond its array): refused first, naming the line.
+TEST(LoadMeshErrors, MalformedColladaArrays) {
+  test::TempDir dir;
+  const std::string dae(kCubeDae);
+  const std::string array = "<float_array id=\"cube-pos-array\" count=\"24\">";
+  const size_t at = dae.find(array);
+  ASSERT_NE(at, std::string::npos);
+  std::string no_count = dae, short_count = dae, long_accessor = dae;
+  no_count.replace(at, array.size(), "<float_array id=\"cube-pos-array\">");
+  ExpectLoadError(dir.Write("no_count.dae", no_count),
+                  "COLLADA <float_array> (line 8) needs a count that is a whole number");
+  short_count.replace(at, array.size(), "<float_array id=\"cube-pos-array\" count=\"30\">");
+  ExpectLoadError(dir.Write("count_30.dae", short_count),
+                  "COLLADA <float_array> (line 8) says count 30 but holds 24 values");
+  const std::string accessor = "count=\"8\" stride=\"3\"";
+  long_accessor.replace(long_accessor.find(accessor), accessor.size(), "count=\"9\" stride=\"3\"");
+  ExpectLoadError(dir.Write("accessor_9.dae", long_accessor),
+                  "COLLADA <accessor> (line 9) reads 9 elements of stride 3 from "
+                  "'cube-pos-array', which holds 24 values");
+}
+
 // PLY that Debian's assimp reads out of bounds (SIGSEGV: a binary body right after
 // "end_header", no line end) or leaks on (an ASCII line it cannot parse): refused first, saying
 // where (the mesh fuzz target found both).

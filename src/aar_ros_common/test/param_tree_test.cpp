@@ -60,8 +60,9 @@ TEST(ParamTree, ReadsWithTheServersConversions) {
   EXPECT_NE(ErrorOf([&] { params.Get("dynamic", 0); }).find("not a map"), std::string::npos);
 }
 
-// roscpp rounds any double for an int (2.5 to 3) and converts one beyond int's range with
-// undefined behaviour (1e10 became -2147483648 here): only whole numbers in range are taken.
+// roscpp's getParam(int&) rounds any double and converts one beyond int's range with undefined
+// behaviour (measured on a master here: 2.5 gave 3, -2.3 gave -3, 1e10 gave -2147483648, each
+// reported as read): only whole numbers in range are taken.
 TEST(ParamTree, AnIntTakesOnlyAWholeDoubleInRange) {
   ParamReader params(Tree(), "/stereo/aar_stereo");
   EXPECT_EQ(params.Get("whole", 0), 4);
