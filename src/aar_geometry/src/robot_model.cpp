@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <set>
 #include <sstream>
 #include <stdexcept>
 
@@ -251,6 +252,36 @@ RobotModel ParseRobotModel(const std::string& xml, const std::string& path,
                               (parse_messages.empty() ? std::string() : ": " + parse_messages));
   }
   if (!urdf->getRoot()) throw LoadError(path, "URDF has no root link");
+  // urdfdom's links hold their children by shared_ptr, so a cycle of joints would never be
+  // freed: cut every link's ties when done, however this function ends.
+  const struct CycleBreaker {
+    urdf::ModelInterfaceSharedPtr model;
+    ~CycleBreaker() {
+      for (auto& [name, link] : model->links_) {
+        link->child_links.clear();
+        link->child_joints.clear();
+        link->parent_joint.reset();
+      }
+    }
+  } cycle_breaker{urdf};
+  // urdfdom accepts joints that form a cycle apart from the root (each of its links has a
+  // parent, so the root is still the only link without one): no pose could place those links.
+  // Found by the urdf fuzz target.
+  std::set<std::string> reached = {urdf->getRoot()->name};
+  for (std::vector<std::string> frontier = {urdf->getRoot()->name}; !frontier.empty();) {
+    const std::string parent = frontier.back();
+    frontier.pop_back();
+    for (const auto& [name, joint] : urdf->joints_) {
+      if (joint->parent_link_name == parent && reached.insert(joint->child_link_name).second)
+        frontier.push_back(joint->child_link_name);
+    }
+  }
+  for (const auto& [name, link] : urdf->links_) {
+    if (!reached.count(name)) {
+      throw LoadError(path, "link '" + name + "' is not connected to the root link '" +
+                                urdf->getRoot()->name + "' (its joints form a cycle)");
+    }
+  }
 
   const fs::path urdf_dir(base_dir);
   RobotModel model;

@@ -221,6 +221,15 @@ TEST(RobotModelErrors, XmlThatIsNotAValidRobot) {
   ExpectLoadError(dir.Write("bad_cylinder.urdf", R"(<robot name="r"><link name="a">
     <collision><geometry><cylinder radius="0.1"/></geometry></collision></link></robot>)"),
                   "length");
+  // Joints in a cycle apart from the root: urdfdom takes it (the urdf fuzz target found it), and
+  // no pose could place b and c.
+  ExpectLoadError(dir.Write("cycle.urdf", R"(<robot name="r">
+    <link name="root"/><link name="a"/><link name="b"/><link name="c"/>
+    <joint name="j0" type="fixed"><parent link="root"/><child link="a"/></joint>
+    <joint name="j1" type="fixed"><parent link="b"/><child link="c"/></joint>
+    <joint name="j2" type="fixed"><parent link="c"/><child link="b"/></joint>
+  </robot>)"),
+                  "link 'b' is not connected to the root link 'root' (its joints form a cycle)");
 }
 
 TEST(RobotModelErrors, MissingMeshNamesLinkAndMesh) {

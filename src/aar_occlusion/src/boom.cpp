@@ -95,29 +95,6 @@ std::vector<BoomPart> LoadBoomParts(const aar_geometry::RobotModel& model,
   return parts;
 }
 
-CullMethod ParseCullMethod(const std::string& name) {
-  if (name == "none") return CullMethod::kNone;
-  if (name == "rays_brute") return CullMethod::kRaysBrute;
-  if (name == "rays_bvh") return CullMethod::kRaysBvh;
-  if (name == "volumes") return CullMethod::kVolumes;
-  throw std::invalid_argument("cull method must be none, rays_brute, rays_bvh or volumes, not '" +
-                              name + "'");
-}
-
-std::string ToString(CullMethod method) {
-  switch (method) {
-    case CullMethod::kNone:
-      return "none";
-    case CullMethod::kRaysBrute:
-      return "rays_brute";
-    case CullMethod::kRaysBvh:
-      return "rays_bvh";
-    case CullMethod::kVolumes:
-      return "volumes";
-  }
-  return "?";
-}
-
 BoomOcclusion::BoomOcclusion(std::vector<BoomPart> parts, const BoomOcclusionOptions& options)
     : parts_(std::move(parts)), options_(options) {
   if (parts_.empty()) throw std::invalid_argument("BoomOcclusion: no boom parts");

@@ -5,7 +5,7 @@
 #include <cstring>
 #include <stdexcept>
 
-#include <sensor_msgs/point_cloud2_iterator.h>
+#include <sensor_msgs/point_cloud2_iterator.h>  // sizeOfPointField, PointCloud2Modifier
 
 namespace aar_ros_common {
 namespace {
@@ -45,27 +45,26 @@ void CheckLayout(const sensor_msgs::PointCloud2& msg) {
   }
 }
 
-// sensor_msgs' iterators step by point_step alone: a cloud whose rows carry padding
-// (row_step > width * point_step) is copied without it first.
-const sensor_msgs::PointCloud2& Unpadded(const sensor_msgs::PointCloud2& msg,
-                                         sensor_msgs::PointCloud2& storage) {
-  const size_t row_bytes = static_cast<size_t>(msg.width) * msg.point_step;
-  if (msg.row_step == row_bytes) return msg;
-  storage = msg;
-  storage.data.resize(row_bytes * msg.height);
-  for (uint32_t r = 0; r < msg.height; ++r) {
-    std::memcpy(&storage.data[r * row_bytes], &msg.data[static_cast<size_t>(r) * msg.row_step],
-                row_bytes);
-  }
-  storage.row_step = static_cast<uint32_t>(row_bytes);
-  return storage;
+// Where point i starts in the data: rows may carry padding (row_step > width * point_step).
+size_t PointStart(const sensor_msgs::PointCloud2& msg, size_t i) {
+  return i / msg.width * msg.row_step + i % msg.width * msg.point_step;
+}
+
+// A value at a byte position, copied out: fields need not be aligned (in a 13-byte point, or
+// after a uint16 field, floats are not), and a load through a cast pointer would be undefined
+// (sensor_msgs' iterators do that; the point_cloud fuzz target found it).
+template <typename T>
+T Load(const sensor_msgs::PointCloud2& msg, size_t at) {
+  T value;
+  std::memcpy(&value, msg.data.data() + at, sizeof(T));
+  return value;
 }
 
 template <typename T>
-void Read(const sensor_msgs::PointCloud2& msg, const std::string& name,
+void Read(const sensor_msgs::PointCloud2& msg, uint32_t offset,
           const std::vector<uint32_t>& indices, std::vector<double>& out) {
-  sensor_msgs::PointCloud2ConstIterator<T> first(msg, name);
-  for (const uint32_t i : indices) out.push_back(static_cast<double>(*(first + i)));
+  for (const uint32_t i : indices)
+    out.push_back(static_cast<double>(Load<T>(msg, PointStart(msg, i) + offset)));
 }
 
 }  // namespace
@@ -75,24 +74,26 @@ bool HasField(const sensor_msgs::PointCloud2& msg, const std::string& name) {
 }
 
 CloudPoints FromCloud(const sensor_msgs::PointCloud2& msg) {
-  for (const char* name : {"x", "y", "z"}) {
+  uint32_t offsets[3];
+  for (int k = 0; k < 3; ++k) {
+    const char* name = k == 0 ? "x" : k == 1 ? "y" : "z";
     const auto* f = Field(msg, name);
     if (f == nullptr || f->datatype != sensor_msgs::PointField::FLOAT32)
       throw std::invalid_argument(std::string("cloud has no float32 field '") + name + "'");
+    offsets[k] = f->offset;
   }
   CheckLayout(msg);
   CloudPoints out;
   const size_t n = NumPoints(msg);
-  if (n == 0) return out;
-  sensor_msgs::PointCloud2 storage;
-  const sensor_msgs::PointCloud2& cloud = Unpadded(msg, storage);
   out.points.reserve(n);
   out.indices.reserve(n);
-  sensor_msgs::PointCloud2ConstIterator<float> x(cloud, "x"), y(cloud, "y"), z(cloud, "z");
-  for (uint32_t i = 0; i < n; ++i, ++x, ++y, ++z) {
-    if (std::isfinite(*x) && std::isfinite(*y) && std::isfinite(*z)) {
-      out.points.emplace_back(*x, *y, *z);
-      out.indices.push_back(i);
+  for (size_t i = 0; i < n; ++i) {
+    const size_t start = PointStart(msg, i);
+    const float x = Load<float>(msg, start + offsets[0]), y = Load<float>(msg, start + offsets[1]),
+                z = Load<float>(msg, start + offsets[2]);
+    if (std::isfinite(x) && std::isfinite(y) && std::isfinite(z)) {
+      out.points.emplace_back(x, y, z);
+      out.indices.push_back(static_cast<uint32_t>(i));
     }
   }
   return out;
@@ -107,19 +108,16 @@ std::vector<double> ReadField(const sensor_msgs::PointCloud2& msg, const std::st
     if (i >= NumPoints(msg)) throw std::invalid_argument("point index beyond the cloud");
   }
   std::vector<double> out;
-  if (indices.empty()) return out;
   out.reserve(indices.size());
-  sensor_msgs::PointCloud2 storage;
-  const sensor_msgs::PointCloud2& cloud = Unpadded(msg, storage);
   // Indexed by PointField's datatype constants, INT8 (1) to FLOAT64 (8); CheckLayout refused
   // any other.
-  using Reader = void (*)(const sensor_msgs::PointCloud2&, const std::string&,
-                          const std::vector<uint32_t>&, std::vector<double>&);
+  using Reader = void (*)(const sensor_msgs::PointCloud2&, uint32_t, const std::vector<uint32_t>&,
+                          std::vector<double>&);
   static constexpr Reader kReaders[] = {nullptr,         &Read<int8_t>,   &Read<uint8_t>,
                                         &Read<int16_t>,  &Read<uint16_t>, &Read<int32_t>,
                                         &Read<uint32_t>, &Read<float>,    &Read<double>};
   static_assert(sensor_msgs::PointField::INT8 == 1 && sensor_msgs::PointField::FLOAT64 == 8);
-  kReaders[f->datatype](cloud, name, indices, out);
+  kReaders[f->datatype](msg, f->offset, indices, out);
   return out;
 }
 
@@ -136,10 +134,8 @@ sensor_msgs::PointCloud2 SelectPoints(const sensor_msgs::PointCloud2& msg,
   sensor_msgs::PointCloud2Modifier(out).resize(indices.size());  // height 1, row_step, data
   for (size_t k = 0; k < indices.size(); ++k) {
     if (indices[k] >= NumPoints(msg)) throw std::invalid_argument("point index beyond the cloud");
-    const uint32_t row = indices[k] / msg.width, col = indices[k] % msg.width;
-    std::memcpy(&out.data[k * out.point_step],
-                &msg.data[static_cast<size_t>(row) * msg.row_step +
-                          static_cast<size_t>(col) * msg.point_step],
+    if (out.point_step == 0) continue;  // no bytes, and memcpy wants real pointers
+    std::memcpy(out.data.data() + k * out.point_step, msg.data.data() + PointStart(msg, indices[k]),
                 out.point_step);
   }
   return out;

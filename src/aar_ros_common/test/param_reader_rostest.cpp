@@ -51,7 +51,7 @@ TEST(ParamReader, NonNegativeRefusesNegativeAndNan) {
             std::string::npos)
       << negative;
   const std::string nan = ErrorOf([&] { params.GetNonNegative("nan", 1.0); });
-  EXPECT_NE(nan.find("/timeouts/nan must be a finite number >= 0"), std::string::npos) << nan;
+  EXPECT_NE(nan.find("/timeouts/nan must be a finite number"), std::string::npos) << nan;
 }
 
 TEST(ParamReader, RejectsKeysNobodyRead) {

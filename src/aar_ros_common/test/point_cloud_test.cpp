@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 
 #include <sensor_msgs/point_cloud2_iterator.h>
 
@@ -61,6 +62,39 @@ TEST(PointCloud, ReadsRowsWithPadding) {
   EXPECT_EQ(selected.width, 2u);
   EXPECT_EQ(selected.height, 1u);
   EXPECT_EQ(ReadField(selected, "label", {0, 1}), (std::vector<double>{50, 0}));
+}
+
+// 13-byte points (x, y, z float32 and a uint8 class, packed): every point after the first has
+// its floats off their 4-byte alignment, which sensor_msgs' iterators read with undefined
+// behaviour (the point_cloud fuzz target found it; UBSan reports it).
+TEST(PointCloud, ReadsPackedPointsWhateverTheirAlignment) {
+  sensor_msgs::PointCloud2 msg;
+  msg.fields.resize(4);
+  const char* names[] = {"x", "y", "z", "class"};
+  for (uint32_t k = 0; k < 4; ++k) {
+    msg.fields[k].name = names[k];
+    msg.fields[k].offset = 4 * k;
+    msg.fields[k].datatype =
+        k < 3 ? sensor_msgs::PointField::FLOAT32 : sensor_msgs::PointField::UINT8;
+    msg.fields[k].count = 1;
+  }
+  msg.point_step = 13;
+  msg.width = 3;
+  msg.height = 1;
+  msg.row_step = 39;
+  msg.data.resize(39);
+  for (uint32_t i = 0; i < 3; ++i) {
+    const float xyz[3] = {1.0f + i, 2.0f * i, 40.0f};
+    std::memcpy(&msg.data[13 * i], xyz, sizeof(xyz));
+    msg.data[13 * i + 12] = static_cast<uint8_t>(i + 1);
+  }
+  const CloudPoints c = FromCloud(msg);
+  ASSERT_EQ(c.points.size(), 3u);
+  EXPECT_TRUE(c.points[2].isApprox(Eigen::Vector3d(3, 4, 40)));
+  EXPECT_EQ(ReadField(msg, "class", c.indices), (std::vector<double>{1, 2, 3}));
+  EXPECT_EQ(ReadField(msg, "y", {1}), (std::vector<double>{2}));
+  const sensor_msgs::PointCloud2 selected = SelectPoints(msg, {2, 1});
+  EXPECT_TRUE(FromCloud(selected).points[0].isApprox(Eigen::Vector3d(3, 4, 40)));
 }
 
 TEST(PointCloud, SelectKeepsEveryFieldAndTheHeader) {

@@ -100,5 +100,18 @@ TEST(Conversions, PointCloudFieldsAndShape) {
   EXPECT_EQ(*in, 20.0f);
 }
 
+// A frame without a valid disparity: the fields and no data (the stereo_input fuzz target found
+// the iterators taking data.front() of the empty data, undefined behaviour UBSan reports).
+TEST(Conversions, EmptyCloudHasFieldsAndNoPoints) {
+  CloudPoints cloud;
+  cloud.width = 0;
+  const auto msg = ToPointCloud2Msg(cloud, std_msgs::Header());
+  EXPECT_EQ(msg->width, 0u);
+  EXPECT_EQ(msg->height, 1u);
+  EXPECT_EQ(msg->fields.size(), 3u);
+  EXPECT_EQ(msg->point_step, 16u);  // sensor_msgs pads "xyz" to 16 bytes
+  EXPECT_TRUE(msg->data.empty());
+}
+
 }  // namespace
 }  // namespace aar_stereo

@@ -5,29 +5,11 @@
 #include <sstream>
 
 #include <aar_msgs/PoseError.h>
-#include <aar_ros_common/param_reader.h>
 #include <aar_ros_common/tf_bridge.h>
 
 #include "aar_eval/ros/conversions.h"
 
 namespace aar_eval {
-
-EvalNodeOptions LoadEvalNodeOptions(const ros::NodeHandle& nh) {
-  EvalNodeOptions o;
-  aar_ros_common::ParamReader params(nh);
-  o.output_dir = params.Required("output_dir", "where frames.csv goes");
-  // The simulator's stamp offset, read where it is configured unless given here.
-  double sim_offset = o.stamp_offset;
-  nh.param("/sim/stamp_offset", sim_offset, sim_offset);
-  o.stamp_offset = params.Get("stamp_offset", sim_offset);
-  o.expected_frames = params.Get("expected_frames", o.expected_frames);
-  o.grace_frames = params.Get("grace_frames", o.grace_frames);
-  params.Check(o.grace_frames >= 1, "grace_frames", "must be at least 1");
-  o.truth_frame = params.Get("truth_frame", o.truth_frame);
-  o.tanker_frame = params.Get("tanker_frame", o.tanker_frame);
-  params.RejectUnknown();
-  return o;
-}
 
 EvalNode::EvalNode(ros::NodeHandle nh, const EvalNodeOptions& options)
     : nh_(nh),

@@ -26,6 +26,8 @@ sensor_msgs::PointCloud2 ToCloud(const DynamicReferenceResult& reference,
       1, sensor_msgs::PointField::FLOAT32, "normal_z", 1, sensor_msgs::PointField::FLOAT32, "rgb",
       1, sensor_msgs::PointField::FLOAT32, "visibility", 1, sensor_msgs::PointField::UINT8);
   modifier.resize(reference.cloud.size());
+  // sensor_msgs' iterators start at data.front(): undefined behaviour on an empty cloud.
+  if (reference.cloud.size() == 0) return msg;
   sensor_msgs::PointCloud2Iterator<float> x(msg, "x"), nx(msg, "normal_x");
   sensor_msgs::PointCloud2Iterator<uint8_t> rgb(msg, "rgb"), visibility(msg, "visibility");
   for (size_t i = 0; i < reference.cloud.size(); ++i, ++x, ++nx, ++rgb, ++visibility) {

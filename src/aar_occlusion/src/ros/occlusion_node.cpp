@@ -6,7 +6,6 @@
 
 #include <aar_geometry/load_error.h>
 #include <aar_geometry/mesh_io.h>
-#include <aar_ros_common/param_reader.h>
 #include <aar_ros_common/point_cloud.h>
 #include <aar_ros_common/receiver_params.h>
 #include <aar_ros_common/start_count.h>
@@ -15,36 +14,6 @@
 #include "aar_occlusion/ros/conversions.h"
 
 namespace aar_occlusion {
-
-OcclusionNodeOptions LoadOcclusionNodeOptions(const ros::NodeHandle& nh) {
-  OcclusionNodeOptions o;
-  aar_ros_common::ParamReader params(nh);
-  OcclusionStepOptions& step = o.step;
-  step.cull = ParseCullMethod(params.Get<std::string>("cull", ToString(step.cull)));
-  step.parts.cull_margin = params.Get("cull_margin", step.parts.cull_margin);
-  step.parts.silhouette_margin = params.Get("silhouette_margin", step.parts.silhouette_margin);
-  if (!(step.parts.cull_margin >= 0.0) || !(step.parts.silhouette_margin >= 0.0))
-    throw std::invalid_argument("~cull_margin and ~silhouette_margin must be >= 0");
-  step.boom.cull_behind_boom = params.Get("cull_behind_boom", step.boom.cull_behind_boom);
-  step.build_reference = params.Get("publish_reference", step.build_reference);
-  o.robot_description = params.Get("robot_description", o.robot_description);
-  o.receiver_mesh = aar_ros_common::LoadReceiverModel(params, step.sampling);
-  // Sampling does not cast rays here: the tolerance is the dynamic reference's self-occlusion.
-  step.reference.visibility_tolerance = step.sampling.visibility_tolerance;
-  step.reference.reshell_distance = params.Get("reshell_distance", step.reference.reshell_distance);
-  step.max_point_range = params.Get("max_point_range", step.max_point_range);
-  params.Check(step.max_point_range > 0.0, "max_point_range", "must be > 0");
-  o.frames = aar_ros_common::LoadStackFrames(params);
-  o.tf_timeout = params.GetNonNegative("tf_timeout", o.tf_timeout);
-  o.estimate_max_age = params.Get("estimate_max_age", o.estimate_max_age);
-  o.marker_length = params.Get("marker_length", o.marker_length);
-  o.estimate_wait = params.GetNonNegative("estimate_wait", o.estimate_wait);
-  o.extrapolate_estimate = params.Get("extrapolate_estimate", o.extrapolate_estimate);
-  o.diagnostic_period = params.Get("diagnostic_period", o.diagnostic_period);
-  if (!(o.diagnostic_period > 0.0)) throw std::invalid_argument("~diagnostic_period must be > 0");
-  params.RejectUnknown();
-  return o;
-}
 
 OcclusionNode::OcclusionNode(ros::NodeHandle nh, ros::NodeHandle private_nh,
                              const OcclusionNodeOptions& options)

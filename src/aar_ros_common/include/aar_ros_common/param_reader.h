@@ -8,32 +8,47 @@
 #include <vector>
 
 #include <ros/node_handle.h>
+#include <xmlrpcpp/XmlRpcValue.h>
 
 namespace aar_ros_common {
 
 // Reads one node's ~parameters into its options struct: each Get names a key and its default,
 // and RejectUnknown refuses any key under ~ that nobody asked for, so a misspelt key stops the
 // node instead of being ignored. Every error names the key with the node's namespace.
+//
+// Values are read as XmlRpcValues and converted here, with roscpp's rules but two: an int key
+// takes a double only when it is a whole number in int's range (roscpp rounds any double and
+// converts 1e10 with undefined behaviour), and a double must be finite (YAML's .nan, .inf).
 class ParamReader {
  public:
-  explicit ParamReader(const ros::NodeHandle& private_nh) : nh_(private_nh) {}
+  // The parameter server, below private_nh's namespace.
+  explicit ParamReader(const ros::NodeHandle& private_nh) : nh_(&private_nh) {}
+  // A parameter tree as the server holds it (`tree` is "/", each struct a namespace, as
+  // `rosparam load` stores a YAML file), read as the node whose private namespace is `ns`
+  // (e.g. "/stereo/aar_stereo"). Needs no master: the parameter fuzz target reads through it.
+  ParamReader(XmlRpc::XmlRpcValue tree, const std::string& ns);
 
-  // The value, or `fallback` when unset. Throws std::invalid_argument when it has the wrong type.
+  // The value, or `fallback` when unset. Throws std::invalid_argument when it has the wrong type
+  // (T is bool, int, double or std::string).
   template <typename T>
   T Get(const std::string& name, const T& fallback) {
     known_.insert(name);
-    T value = fallback;
-    if (nh_.hasParam(name) && !nh_.getParam(name, value))
-      throw std::invalid_argument("parameter " + nh_.resolveName(name) + " has the wrong type");
-    return value;
+    XmlRpc::XmlRpcValue value;
+    if (!GetValue(name, value)) return fallback;
+    T out = fallback;
+    Convert(name, value, out);
+    return out;
   }
+
+  // The raw value of a key (true), or false when unset. Does not count as reading it.
+  bool GetValue(const std::string& name, XmlRpc::XmlRpcValue& value) const;
 
   // A time, distance or count that must be finite and >= 0 (a NaN or negative timeout would
   // wait forever or not at all). Throws std::invalid_argument naming the key and the value.
   double GetNonNegative(const std::string& name, double fallback) {
     const double value = Get(name, fallback);
     if (!(value >= 0.0 && std::isfinite(value)))
-      throw std::invalid_argument("parameter " + nh_.resolveName(name) +
+      throw std::invalid_argument("parameter " + Resolve(name) +
                                   " must be a finite number >= 0, not " + std::to_string(value));
     return value;
   }
@@ -42,7 +57,7 @@ class ParamReader {
   std::string Required(const std::string& name, const std::string& what) {
     const std::string value = Get<std::string>(name, "");
     if (value.empty()) {
-      throw std::invalid_argument("required parameter " + nh_.resolveName(name) + " (" + what +
+      throw std::invalid_argument("required parameter " + Resolve(name) + " (" + what +
                                   ") is not set");
     }
     return value;
@@ -59,7 +74,7 @@ class ParamReader {
       if (choice == value) return e;
       names += (names.empty() ? "" : ", ") + choice;
     }
-    throw std::invalid_argument("parameter " + nh_.resolveName(name) + " must be one of " + names +
+    throw std::invalid_argument("parameter " + Resolve(name) + " must be one of " + names +
                                 ", not '" + value + "'");
   }
 
@@ -69,26 +84,25 @@ class ParamReader {
   void AllowSubNamespaces() { sub_namespaces_allowed_ = true; }
 
   // Throws std::invalid_argument naming the first parameter under ~ that Get was never asked for.
-  void RejectUnknown() const {
-    std::vector<std::string> names;
-    nh_.getParamNames(names);
-    const std::string prefix = nh_.getNamespace() + "/";
-    for (const auto& name : names) {
-      if (name.rfind(prefix, 0) != 0) continue;
-      const std::string key = name.substr(prefix.size());
-      if (sub_namespaces_allowed_ && key.find('/') != std::string::npos) continue;
-      if (!known_.count(key))
-        throw std::invalid_argument("unknown parameter " + name + " (misspelt?)");
-    }
-  }
+  void RejectUnknown() const;
 
   // Throws std::invalid_argument "parameter ~name <rule>" unless `ok`.
   void Check(bool ok, const std::string& name, const std::string& rule) const {
-    if (!ok) throw std::invalid_argument("parameter " + nh_.resolveName(name) + " " + rule);
+    if (!ok) throw std::invalid_argument("parameter " + Resolve(name) + " " + rule);
   }
 
+  // The key's full name, as errors give it.
+  std::string Resolve(const std::string& name) const;
+
  private:
-  const ros::NodeHandle& nh_;
+  void Convert(const std::string& name, const XmlRpc::XmlRpcValue& value, bool& out) const;
+  void Convert(const std::string& name, const XmlRpc::XmlRpcValue& value, int& out) const;
+  void Convert(const std::string& name, const XmlRpc::XmlRpcValue& value, double& out) const;
+  void Convert(const std::string& name, const XmlRpc::XmlRpcValue& value, std::string& out) const;
+
+  const ros::NodeHandle* nh_ = nullptr;  // the server; else tree_ and ns_
+  XmlRpc::XmlRpcValue tree_;
+  std::string ns_;
   std::set<std::string> known_;
   bool sub_namespaces_allowed_ = false;
 };

@@ -111,6 +111,9 @@ sensor_msgs::PointCloud2Ptr ToPointCloud2Msg(const CloudPoints& cloud,
   msg->height = static_cast<uint32_t>(cloud.height);
   msg->row_step = msg->width * msg->point_step;
   msg->is_dense = cloud.height == 1;  // organized clouds carry NaN for invalid pixels
+  // sensor_msgs' iterators start at data.front(): undefined behaviour on an empty cloud (a frame
+  // without a valid disparity; found by the stereo_input fuzz target).
+  if (cloud.xyz.empty()) return msg;
   sensor_msgs::PointCloud2Iterator<float> x(*msg, "x"), y(*msg, "y"), z(*msg, "z");
   for (size_t i = 0; i < cloud.xyz.size(); ++i, ++x, ++y, ++z) {
     *x = cloud.xyz[i].x();

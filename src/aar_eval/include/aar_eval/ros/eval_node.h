@@ -6,6 +6,7 @@
 #include <string>
 
 #include <aar_msgs/PoseEstimate.h>
+#include <aar_ros_common/param_reader.h>
 #include <ros/ros.h>
 #include <sensor_msgs/CameraInfo.h>
 #include <std_msgs/Header.h>
@@ -28,6 +29,7 @@ struct EvalNodeOptions {
 
 // Reads ~parameters (one function, unknown keys rejected); throws std::invalid_argument.
 EvalNodeOptions LoadEvalNodeOptions(const ros::NodeHandle& private_nh);
+EvalNodeOptions LoadEvalNodeOptions(aar_ros_common::ParamReader& params);
 
 // The ROS side of Evaluator: each frame (stereo/left/camera_info) paired with its estimate
 // (aar/pose_estimate) and the truth (tf tanker -> receiver_truth); each settled frame goes to

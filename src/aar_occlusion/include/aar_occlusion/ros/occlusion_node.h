@@ -8,6 +8,7 @@
 
 #include <aar_ros_common/error_throttle.h>
 #include <aar_ros_common/frames.h>
+#include <aar_ros_common/param_reader.h>
 #include <diagnostic_updater/diagnostic_updater.h>
 #include <ros/ros.h>
 #include <sensor_msgs/PointCloud2.h>
@@ -41,6 +42,7 @@ struct OcclusionNodeOptions {
 
 // Reads ~parameters (one function, unknown keys rejected); throws std::invalid_argument.
 OcclusionNodeOptions LoadOcclusionNodeOptions(const ros::NodeHandle& private_nh);
+OcclusionNodeOptions LoadOcclusionNodeOptions(aar_ros_common::ParamReader& params);
 
 // The ROS side of OcclusionStep. Per sensed cloud (~points): gathers the tf it needs (cloud,
 // cameras, boom links, the latest estimate), runs the step, and publishes the cloud without boom

@@ -11,6 +11,7 @@
 #include <aar_ros_common/error_throttle.h>
 #include <aar_ros_common/frames.h>
 #include <aar_ros_common/stamp_order.h>
+#include <aar_ros_common/param_reader.h>
 #include <diagnostic_updater/diagnostic_updater.h>
 #include <message_filters/subscriber.h>
 #include <message_filters/time_synchronizer.h>
@@ -41,6 +42,7 @@ struct RegistrationNodeOptions {
 
 // Reads ~parameters (one function, unknown keys rejected); throws std::invalid_argument.
 RegistrationNodeOptions LoadRegistrationNodeOptions(const ros::NodeHandle& private_nh);
+RegistrationNodeOptions LoadRegistrationNodeOptions(aar_ros_common::ParamReader& params);
 
 // The ROS side of Registrar: each sensed cloud (~points, any frame with tf to the tanker), paired
 // by stamp with its reference (aar/reference_cloud) when the reference is a topic, goes to the

@@ -8,6 +8,7 @@
 #include <thread>
 
 #include <aar_msgs/PoseEstimate.h>
+#include <aar_ros_common/param_reader.h>
 #include <image_transport/image_transport.h>
 #include <ros/ros.h>
 #include <tf2_ros/static_transform_broadcaster.h>
@@ -38,6 +39,7 @@ struct SimNodeOptions {
 // Reads ~parameters; throws std::invalid_argument naming a missing required parameter, a bad
 // value or an unknown parameter (a typo would otherwise be ignored silently).
 SimNodeOptions LoadSimNodeOptions(const ros::NodeHandle& private_nh);
+SimNodeOptions LoadSimNodeOptions(aar_ros_common::ParamReader& params);
 
 // Renders the flight path frame by frame and publishes images, camera infos, joint states, truth
 // tf and /clock with one stamp per frame.

@@ -5,6 +5,7 @@
 #include <aar_ros_common/estimate_listener.h>
 #include <aar_ros_common/frames.h>
 #include <aar_ros_common/stamp_order.h>
+#include <aar_ros_common/param_reader.h>
 #include <atomic>
 #include <map>
 #include <memory>
@@ -62,8 +63,14 @@ struct StereoNodeOptions {
 };
 
 // Reads the node's own (non-reconfigurable) ~parameters and rejects unknown ~parameters; the
-// matcher settings are read by the dynamic_reconfigure server. Throws std::invalid_argument.
+// matcher settings are read by the dynamic_reconfigure server, and checked here (types, ranges,
+// odd sizes). Throws std::invalid_argument.
 StereoNodeOptions LoadStereoNodeOptions(const ros::NodeHandle& private_nh);
+StereoNodeOptions LoadStereoNodeOptions(aar_ros_common::ParamReader& params);
+
+// The matcher settings as the dynamic_reconfigure server starts with them: the defaults, and each
+// ~key that is set with the setting's type.
+StereoConfig LoadStereoConfig(const aar_ros_common::ParamReader& params);
 
 // Matcher settings from a (possibly user-edited) reconfigure request, sanitised as
 // stereo_image_proc does: odd block sizes, disparity range a multiple of 16. Writes the values

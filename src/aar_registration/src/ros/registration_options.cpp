@@ -1,0 +1,80 @@
+// The node's parameters, apart from the node so that they can be read without a master
+// (ParamReader over a parameter tree: the parameter fuzz target).
+#include <aar_geometry/pose.h>
+#include <aar_ros_common/param_reader.h>
+#include <aar_ros_common/receiver_params.h>
+
+#include "aar_registration/ros/registration_node.h"
+
+namespace aar_registration {
+
+RegistrationNodeOptions LoadRegistrationNodeOptions(const ros::NodeHandle& nh) {
+  aar_ros_common::ParamReader params(nh);
+  return LoadRegistrationNodeOptions(params);
+}
+
+RegistrationNodeOptions LoadRegistrationNodeOptions(aar_ros_common::ParamReader& params) {
+  RegistrationNodeOptions o;
+  RegistrarOptions& r = o.registrar;
+  r.reference = params.GetChoice<ReferenceKind>("reference", "shelled",
+                                                {{"shelled", ReferenceKind::kShelled},
+                                                 {"wings_nose", ReferenceKind::kWingsNose},
+                                                 {"dense", ReferenceKind::kDense},
+                                                 {"topic", ReferenceKind::kTopic}});
+  o.receiver_mesh = aar_ros_common::LoadReceiverModel(params, r.sampling);
+  // Nominal pose for shelling: the default approach's contact pose.
+  const Eigen::Vector3d nominal(params.Get("nominal_x", -35.0), params.Get("nominal_y", 0.0),
+                                params.Get("nominal_z", -10.19));
+  const aar_geometry::RollPitchYaw nominal_rpy{
+      aar_geometry::DegToRad(params.Get("nominal_roll_deg", 0.0)),
+      aar_geometry::DegToRad(params.Get("nominal_pitch_deg", -2.0)),
+      aar_geometry::DegToRad(params.Get("nominal_yaw_deg", 0.0))};
+  r.T_tanker_receiver_nominal = aar_geometry::MakeTransform(nominal, nominal_rpy);
+  r.icp.metric = params.GetChoice<IcpMetric>("icp_metric", "point_to_point",
+                                             {{"point_to_point", IcpMetric::kPointToPoint},
+                                              {"point_to_plane", IcpMetric::kPointToPlane},
+                                              {"generalized_pcl", IcpMetric::kGeneralizedPcl}});
+  r.icp.max_iterations = params.Get("max_iterations", r.icp.max_iterations);
+  r.icp.max_correspondence_distance =
+      params.Get("max_correspondence_distance", r.icp.max_correspondence_distance);
+  r.icp.min_rms_improvement = params.Get("min_rms_improvement", r.icp.min_rms_improvement);
+  r.icp.stop_on_rms_rise = params.Get("stop_on_rms_rise", r.icp.stop_on_rms_rise);
+  r.icp.rms_epsilon = params.Get("rms_epsilon", r.icp.rms_epsilon);
+  r.icp.independent_correspondences =
+      params.Get("independent_correspondences", r.icp.independent_correspondences);
+  r.seed = params.GetChoice<SeedMode>("seed", "centroid",
+                                      {{"centroid", SeedMode::kCentroid},
+                                       {"previous", SeedMode::kPrevious},
+                                       {"prediction", SeedMode::kPrediction}});
+  r.previous_max_age = params.Get("previous_max_age", r.previous_max_age);
+  r.max_sensed_points = params.Get("max_sensed_points", r.max_sensed_points);
+  r.max_cloud_points = params.Get("max_cloud_points", r.max_cloud_points);
+  params.Check(r.max_cloud_points >= 0, "max_cloud_points", "must be >= 0 (0: no bound)");
+  r.subsample_seed =
+      static_cast<unsigned>(params.Get("subsample_seed", static_cast<int>(r.subsample_seed)));
+  r.track = params.Get("track", r.track);
+  r.gate.min_fitness = params.Get("gate_min_fitness", r.gate.min_fitness);
+  r.gate.max_rms = params.Get("gate_max_rms", r.gate.max_rms);
+  TrackerOptions& t = r.tracker;
+  t.acceleration_sigma = params.Get("acceleration_sigma", t.acceleration_sigma);
+  t.angular_acceleration_sigma =
+      params.Get("angular_acceleration_sigma", t.angular_acceleration_sigma);
+  t.initial_velocity_sigma = params.Get("initial_velocity_sigma", t.initial_velocity_sigma);
+  t.initial_angular_velocity_sigma =
+      params.Get("initial_angular_velocity_sigma", t.initial_angular_velocity_sigma);
+  t.gate_chi2 = params.Get("gate_chi2", t.gate_chi2);
+  t.max_rejections = params.Get("max_rejections", t.max_rejections);
+  t.max_coast_s = params.Get("max_coast", t.max_coast_s);
+  o.frames = aar_ros_common::LoadStackFrames(params);
+  o.truth_frame = params.Get("truth_frame", o.truth_frame);
+  o.tf_timeout = params.GetNonNegative("tf_timeout", o.tf_timeout);
+  o.reference_timeout = params.GetNonNegative("reference_timeout", o.reference_timeout);
+  o.max_stamp_lead = params.GetNonNegative("max_stamp_lead", o.max_stamp_lead);
+  o.diagnostic_period = params.Get("diagnostic_period", o.diagnostic_period);
+  params.Check(o.diagnostic_period > 0.0, "diagnostic_period", "must be > 0");
+
+  params.RejectUnknown();
+  return o;
+}
+
+}  // namespace aar_registration

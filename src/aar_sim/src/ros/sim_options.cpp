@@ -1,0 +1,64 @@
+// The node's parameters, apart from the node so that they can be read without a master
+// (ParamReader over a parameter tree: the parameter fuzz target).
+#include <aar_ros_common/param_reader.h>
+#include <ros/package.h>
+
+#include "aar_sim/ros/sim_node.h"
+
+namespace aar_sim {
+
+SimNodeOptions LoadSimNodeOptions(const ros::NodeHandle& nh) {
+  aar_ros_common::ParamReader params(nh);
+  return LoadSimNodeOptions(params);
+}
+
+SimNodeOptions LoadSimNodeOptions(aar_ros_common::ParamReader& params) {
+  SimNodeOptions o;
+  params.Allow("robot_description");  // tolerated: some launch files put it here
+  o.flight_path = params.Required("flight_path", "a flight-path CSV");
+  const std::string models = ros::package::getPath("aar_description") + "/models";
+  o.world.receiver_mesh = params.Get<std::string>("receiver_mesh", models + "/receiver.obj");
+  o.world.boom_urdf = params.Get<std::string>("boom_urdf", models + "/boom.urdf");
+  o.world.boom_visible = params.Get("boom", true);
+
+  const int width = params.Get("image_width", 1280);
+  const int height = params.Get("image_height", 960);
+  const double hfov = params.Get("hfov_deg", 60.0);
+  const double baseline = params.Get("baseline", 0.5);
+  const Eigen::Vector3d mount(params.Get("camera_x", -20.0), params.Get("camera_y", 1.0),
+                              params.Get("camera_z", -3.0));
+  const double yaw = params.Get("camera_yaw_deg", 180.0);
+  const double pitch = params.Get("camera_pitch_deg", 25.0);
+  params.Check(width > 0, "image_width", "must be positive");
+  params.Check(height > 0, "image_height", "must be positive");
+  params.Check(hfov > 0.0 && hfov < 180.0, "hfov_deg", "must be in (0, 180)");
+  params.Check(baseline > 0.0, "baseline", "must be positive");
+  o.world.rig = MakeStereoRig(CameraIntrinsics::FromHorizontalFov(width, height, hfov), baseline,
+                              mount, yaw, pitch);
+
+  o.world.renderer.noise_stddev = params.Get("noise_stddev", 0.0);
+  o.world.renderer.noise_seed = static_cast<uint64_t>(params.Get("noise_seed", 1));
+  o.world.renderer.sky_level = params.Get("sky_level", 200.0);
+  params.Check(o.world.renderer.noise_stddev >= 0.0, "noise_stddev", "must not be negative");
+
+  o.rate = params.Get("rate", o.rate);
+  o.start_time = params.Get("start_time", o.start_time);
+  o.max_frames = params.Get("frames", o.max_frames);
+  o.lockstep = params.Get("lockstep", o.lockstep);
+  o.lockstep_timeout = params.Get("lockstep_timeout", o.lockstep_timeout);
+  o.wait_for_subscribers = params.Get("wait_for_subscribers", o.lockstep);
+  o.start_delay = params.Get("start_delay", o.start_delay);
+  params.Check(o.start_delay >= 0.0, "start_delay", "must not be negative");
+  o.publish_labels = params.Get("publish_labels", o.publish_labels);
+  o.shutdown_at_end = params.Get("shutdown_at_end", o.shutdown_at_end);
+  o.stamp_offset = params.Get("stamp_offset", o.stamp_offset);
+  params.Check(o.rate > 0.0, "rate", "must be positive");
+  params.Check(o.max_frames >= 0, "frames", "must not be negative");
+  params.Check(o.lockstep_timeout > 0.0, "lockstep_timeout", "must be positive");
+  params.Check(o.stamp_offset > 0.0, "stamp_offset", "must be positive");
+
+  params.RejectUnknown();
+  return o;
+}
+
+}  // namespace aar_sim

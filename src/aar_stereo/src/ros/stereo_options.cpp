@@ -1,0 +1,151 @@
+// The stereo node's parameters, apart from the node so that they can be read without a master
+// (ParamReader over a parameter tree: the parameter fuzz target).
+#include <cmath>
+#include <sstream>
+
+#include <aar_ros_common/param_reader.h>
+#include <aar_ros_common/receiver_params.h>
+#include <dynamic_reconfigure/config_tools.h>
+
+#include "aar_stereo/ros/stereo_node.h"
+
+namespace aar_stereo {
+
+namespace {
+
+using XmlRpc::XmlRpcValue;
+
+// dynamic_reconfigure quietly clamps a setting to its range and takes the default for one of the
+// wrong type, and ToStereoOptions rounds block sizes and disparity counts: at start-up each of
+// these is refused by name instead (matcher 5 would otherwise become SGBM, block_size 'abc' 9).
+void CheckReconfigurableSettings(const aar_ros_common::ParamReader& params) {
+  for (const auto& p : StereoConfig::__getParamDescriptions__()) {
+    XmlRpcValue value;
+    if (!params.GetValue(p->name, value)) continue;  // unset: the default
+    const auto type = value.getType();
+    const bool is_int = type == XmlRpcValue::TypeInt;
+    const bool ok_type = p->type == "int"      ? is_int
+                         : p->type == "double" ? is_int || type == XmlRpcValue::TypeDouble
+                         : p->type == "bool"   ? type == XmlRpcValue::TypeBoolean
+                                               : type == XmlRpcValue::TypeString;
+    params.Check(ok_type, p->name, "must be of type " + p->type);
+    if (p->type != "int" && p->type != "double") continue;
+    const double v = is_int ? static_cast<int>(value) : static_cast<double>(value);
+    boost::any low, high;
+    p->getValue(StereoConfig::__getMin__(), low);
+    p->getValue(StereoConfig::__getMax__(), high);
+    const double lo = p->type == "int" ? boost::any_cast<int>(low) : boost::any_cast<double>(low);
+    const double hi = p->type == "int" ? boost::any_cast<int>(high) : boost::any_cast<double>(high);
+    std::ostringstream range;
+    range << "must be in [" << lo << ", " << hi << "], not " << v;
+    params.Check(std::isfinite(v) && v >= lo && v <= hi, p->name, range.str());
+  }
+  const StereoConfig c = LoadStereoConfig(params);
+  params.Check(c.block_size % 2 == 1, "block_size", "must be odd");
+  params.Check(c.matcher != Stereo_block_matching || c.block_size >= 5, "block_size",
+               "must be at least 5 for block matching");
+  params.Check(c.prefilter_size % 2 == 1, "prefilter_size", "must be odd");
+  params.Check(c.num_disparities % 16 == 0, "num_disparities", "must be a multiple of 16");
+  params.Check(!c.organized || c.decimation == Stereo_none, "organized",
+               "needs decimation none (a decimated cloud has no image shape)");
+}
+
+}  // namespace
+
+StereoNodeOptions LoadStereoNodeOptions(const ros::NodeHandle& nh) {
+  aar_ros_common::ParamReader params(nh);
+  return LoadStereoNodeOptions(params);
+}
+
+StereoNodeOptions LoadStereoNodeOptions(aar_ros_common::ParamReader& params) {
+  StereoNodeOptions o;
+  o.approximate_sync = params.Get("approximate_sync", o.approximate_sync);
+  o.max_pair_skew = params.GetNonNegative("max_pair_skew", o.max_pair_skew);
+  o.opencv_threads = params.Get("opencv_threads", o.opencv_threads);
+  o.max_frame_age = params.Get("max_frame_age", o.max_frame_age);
+  params.Check(o.max_frame_age >= 0.0, "max_frame_age", "must be >= 0 [s] (0: off)");
+  o.queue_size = params.Get("queue_size", o.queue_size);
+  params.Check(o.queue_size >= 1, "queue_size", "must be at least 1");
+  StereoRoiOptions& roi = o.roi;
+  roi.enabled = params.Get("roi", roi.enabled);
+  roi.margin = params.Get("roi_margin", roi.margin);
+  params.Check(roi.margin >= 0, "roi_margin", "must be >= 0 [px]");
+  roi.receiver_margin = params.Get("roi_receiver_margin", roi.receiver_margin);
+  params.Check(roi.receiver_margin >= 0.0, "roi_receiver_margin", "must be >= 0 [m]");
+  roi.include_boom = params.Get("roi_include_boom", roi.include_boom);
+  roi.estimate_max_age = params.Get("estimate_max_age", roi.estimate_max_age);
+  params.Check(roi.estimate_max_age > 0.0, "estimate_max_age", "must be > 0 [s]");
+  roi.estimate_wait = params.GetNonNegative("estimate_wait", roi.estimate_wait);
+  roi.tf_timeout = params.GetNonNegative("tf_timeout", roi.tf_timeout);
+  roi.robot_description = params.Get("robot_description", roi.robot_description);
+  roi.receiver_mesh = aar_ros_common::LoadReceiverMesh(params);
+  roi.frames = aar_ros_common::LoadStackFrames(params);
+  // Everything else in ~ must be a reconfigurable setting (dynamic_reconfigure reads those) or
+  // diagnostic_updater's period: a typo would otherwise be ignored.
+  params.Allow("diagnostic_period");
+  for (const auto& p : StereoConfig::__getParamDescriptions__()) params.Allow(p->name);
+  CheckReconfigurableSettings(params);
+  params.AllowSubNamespaces();  // dynamic_reconfigure's own
+  params.RejectUnknown();
+  return o;
+}
+
+StereoConfig LoadStereoConfig(const aar_ros_common::ParamReader& params) {
+  // As a reconfigure request: each set key of the setting's type (or an int for a double).
+  dynamic_reconfigure::Config request;
+  for (const auto& p : StereoConfig::__getParamDescriptions__()) {
+    XmlRpcValue v;
+    if (!params.GetValue(p->name, v)) continue;
+    const auto type = v.getType();
+    if (p->type == "int" && type == XmlRpcValue::TypeInt) {
+      dynamic_reconfigure::ConfigTools::appendParameter(request, p->name, static_cast<int&>(v));
+    } else if (p->type == "double" && type == XmlRpcValue::TypeInt) {
+      dynamic_reconfigure::ConfigTools::appendParameter(request, p->name,
+                                                        static_cast<double>(static_cast<int&>(v)));
+    } else if (p->type == "double" && type == XmlRpcValue::TypeDouble) {
+      dynamic_reconfigure::ConfigTools::appendParameter(request, p->name, static_cast<double&>(v));
+    } else if (p->type == "bool" && type == XmlRpcValue::TypeBoolean) {
+      dynamic_reconfigure::ConfigTools::appendParameter(request, p->name, static_cast<bool&>(v));
+    } else if (p->type == "str" && type == XmlRpcValue::TypeString) {
+      dynamic_reconfigure::ConfigTools::appendParameter(request, p->name,
+                                                        static_cast<std::string&>(v));
+    }
+  }
+  StereoConfig c = StereoConfig::__getDefault__();
+  c.__fromMessage__(request);
+  return c;
+}
+
+StereoOptions ToStereoOptions(StereoConfig& c) {
+  c.block_size |= 1;  // odd
+  if (c.matcher == Stereo_block_matching && c.block_size < 5) c.block_size = 5;
+  c.prefilter_size |= 1;
+  c.num_disparities = ((c.num_disparities + 15) / 16) * 16;
+  StereoOptions o;
+  o.matcher = c.matcher == Stereo_semi_global ? Matcher::kSemiGlobal : Matcher::kBlockMatching;
+  o.block_size = c.block_size;
+  o.num_disparities = c.num_disparities;
+  o.min_disparity = c.min_disparity;
+  o.prefilter_size = c.prefilter_size;
+  o.prefilter_cap = c.prefilter_cap;
+  o.texture_threshold = c.texture_threshold;
+  o.uniqueness_ratio = c.uniqueness_ratio;
+  o.speckle_window_size = c.speckle_window_size;
+  o.speckle_range = c.speckle_range;
+  o.disp12_max_diff = c.disp12_max_diff;
+  o.sgbm_p1 = c.sgbm_p1;
+  o.sgbm_p2 = c.sgbm_p2;
+  o.sgbm_full_dp = c.sgbm_full_dp;
+  o.max_range = c.max_range;
+  o.decimation = c.decimation == Stereo_none         ? Decimation::kNone
+                 : c.decimation == Stereo_voxel_grid ? Decimation::kVoxelGrid
+                                                     : Decimation::kEveryNth;
+  o.keep_every = c.keep_every;
+  o.voxel_size = c.voxel_size;
+  if (c.organized && o.decimation != Decimation::kNone) c.organized = false;
+  o.organized = c.organized;
+  o.intensity = c.intensity;
+  return o;
+}
+
+}  // namespace aar_stereo
