@@ -294,16 +294,16 @@ void KillStageAndResume(const std::string& test, const std::string& args,
 // Separate processes (manager:=false): the node is respawned 1 s after it died, starts and
 // subscribes again.
 TEST(Faults, KilledStereoNodeComesBackAndEstimationResumes) {
-  // Measured: resumed 2.09 s after the kill (respawn_delay 1 s, start, the next frame), 3 frames
-  // lost.
+  // Measured: resumed 2.09 to 2.87 s after the kill (respawn_delay 1 s, start-up, the next
+  // frame), 3 to 4 frames lost.
   KillStageAndResume("stereo_node", "manager:=false", "__name:=aar_stereo", "stereo/aar_stereo",
-                     "/stereo/aar_stereo", 3.0, 6);
+                     "/stereo/aar_stereo", 3.5, 6);
 }
 
 TEST(Faults, KilledOcclusionNodeComesBackAndEstimationResumes) {
-  // Measured: resumed 1.91 s after the kill, 3 frames lost.
+  // Measured: resumed 1.91 to 2.44 s after the kill, 3 to 4 frames lost.
   KillStageAndResume("occlusion_node", "manager:=false", "__name:=occlusion", "occlusion",
-                     "/occlusion", 3.0, 6);
+                     "/occlusion", 3.5, 6);
 }
 
 // Nodelets (manager:=true, the default): killing the loader (`nodelet load`) does not stop the
@@ -311,14 +311,14 @@ TEST(Faults, KilledOcclusionNodeComesBackAndEstimationResumes) {
 // the respawned loader is refused ("Cannot load nodelet ... one exists with that name already")
 // and exits, and roslaunch respawns it again; the one after the unload loads a new nodelet.
 TEST(Faults, KilledStereoLoaderReloadsTheNodeletAndEstimationResumes) {
-  // Measured: resumed 4.81 s after the kill (the bond's 4 s, then a respawned loader's turn),
-  // 3 frames lost.
+  // Measured: resumed 4.44 to 4.81 s after the kill (the bond's 4 s, then a respawned loader's
+  // turn), 1 to 3 frames lost.
   KillStageAndResume("stereo_nodelet", "", "StereoNodelet", "stereo/aar_stereo",
                      "/stereo/aar_stereo", 7.0, 8);
 }
 
 TEST(Faults, KilledOcclusionLoaderReloadsTheNodeletAndEstimationResumes) {
-  // Measured: resumed 4.44 s after the kill, 2 frames lost.
+  // Measured: resumed 4.44 to 4.46 s after the kill, 2 frames lost.
   KillStageAndResume("occlusion_nodelet", "", "OcclusionNodelet", "occlusion", "/occlusion", 7.0,
                      8);
 }
@@ -372,20 +372,20 @@ TEST(Faults, BoomTfStallsFramesPassUnculledNamedThenCullingResumes) {
       }
     }
   }
-  std::printf("[ fault ] boom tf stalled 4 s: %d frames handled in it (within %.2f s of their "
-              "arrival), %d unculled, %d estimated, %d dropped; culled again %.2f s after tf "
-              "returned, then %d of %d frames\n",
-              in_stall, lag_s, unculled, in_stall_estimated, lost, culled_again_s, culled_later,
-              later);
+  std::printf(
+      "[ fault ] boom tf stalled 4 s: %d frames handled in it (within %.2f s of their "
+      "arrival), %d unculled, %d estimated, %d dropped; culled again %.2f s after tf "
+      "returned, then %d of %d frames\n",
+      in_stall, lag_s, unculled, in_stall_estimated, lost, culled_again_s, culled_later, later);
   EXPECT_GE(in_stall, 4);
   EXPECT_EQ(unculled, in_stall);
   EXPECT_EQ(in_stall_estimated, in_stall);
   // Keeping up: one tf_timeout (0.5 s) per frame, not one per missing link (it fell 3.7 s
   // behind and dropped frames).
-  EXPECT_LE(lag_s, 1.2);  // measured: 0.71 to 0.74 s
+  EXPECT_LE(lag_s, 1.2);  // measured: 0.65 to 0.74 s
   EXPECT_LE(lost, 1);     // measured: 0
   EXPECT_GE(culled_again_s, 0.0);
-  EXPECT_LE(culled_again_s, 2.0);  // measured: 0.01 to 0.76 s
+  EXPECT_LE(culled_again_s, 2.0);  // measured: 0.01 to 0.76 s (the next frame's tf)
   EXPECT_GE(later, 6);
   EXPECT_EQ(culled_later, later);
   const std::string log = g.Log();
@@ -430,7 +430,7 @@ TEST(Faults, CameraMountsStalledWhileAStageRestartsNamedThenResumes) {
   EXPECT_EQ(running.lost, 0);
   EXPECT_GE(all.lost, 2);  // the respawned node had no mounts (the player sends in bursts)
   EXPECT_GE(z.resume_s, 0.0);
-  // Measured: 1.77 to 1.89 s; the loaded player sends frames in pairs up to 2 s apart.
+  // Measured: 0.62 to 1.89 s; the loaded player sends frames in pairs up to 2 s apart.
   EXPECT_LE(z.resume_s, 3.5);
   EXPECT_GE(z.after, 6);
   EXPECT_GE(z.estimated_after, z.after - 1);
@@ -480,7 +480,8 @@ TEST(Faults, MasterRestartsGraphGoesOnAndIsRegisteredAgain) {
       across.lost, registered_s, z.resume_s, z.estimated_after, z.after);
   EXPECT_EQ(across.lost, 0);  // connections kept
   EXPECT_GE(registered_s, 0.0) << g.Log();
-  EXPECT_LE(registered_s, 2.0);  // measured: 1.21 s (the new master's start-up and one period)
+  // Measured: 1.06 to 1.21 s (the new master's start-up and one period).
+  EXPECT_LE(registered_s, 2.0);
   EXPECT_EQ(echo.status, 0) << echo.output;
   EXPECT_NE(echo.output.find("True"), std::string::npos) << echo.output;
   EXPECT_EQ(param.status, 0) << param.output;
