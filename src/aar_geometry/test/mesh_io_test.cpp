@@ -300,6 +300,16 @@ TEST(LoadMeshErrors, MalformedPly) {
                             "float y\nproperty float z\nelement face 1\nproperty list uchar int "
                             "vertex_indices\nend_header\n0 0 0\n1 0 0x\n0 1 0\n3 0 1 2\n"),
                   "PLY line 11: '0x' is not a number");
+  // A garbled header (assimp read out of bounds on one like it): a NUL, a short element line,
+  // nothing declared.
+  ExpectLoadError(
+      dir.Write("nul.ply", std::string("ply\nformat ascii 1.0\0\x02\nend_header\n", 34)),
+      "PLY header holds a control character (byte 20)");
+  ExpectLoadError(
+      dir.Write("short_element.ply", "ply\nformat ascii 1.0\nelement vertex\nend_header\n"),
+      "PLY header line 3: 'element' needs 2 words after it, not 1");
+  ExpectLoadError(dir.Write("nothing.ply", "ply\nformat binary_little_endian 1.0\nend_header\n"),
+                  "PLY header declares no element");
 }
 
 }  // namespace
