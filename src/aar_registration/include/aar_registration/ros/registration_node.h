@@ -10,8 +10,8 @@
 #include <aar_geometry/triangle_mesh.h>
 #include <aar_ros_common/error_throttle.h>
 #include <aar_ros_common/frames.h>
-#include <aar_ros_common/stamp_order.h>
 #include <aar_ros_common/param_reader.h>
+#include <aar_ros_common/stamp_order.h>
 #include <diagnostic_updater/diagnostic_updater.h>
 #include <message_filters/subscriber.h>
 #include <message_filters/time_synchronizer.h>

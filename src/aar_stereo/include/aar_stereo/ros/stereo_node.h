@@ -4,8 +4,8 @@
 #include <aar_ros_common/error_throttle.h>
 #include <aar_ros_common/estimate_listener.h>
 #include <aar_ros_common/frames.h>
-#include <aar_ros_common/stamp_order.h>
 #include <aar_ros_common/param_reader.h>
+#include <aar_ros_common/stamp_order.h>
 #include <atomic>
 #include <map>
 #include <memory>
