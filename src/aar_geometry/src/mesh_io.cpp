@@ -147,9 +147,15 @@ bool IsDecimal(const std::string& token, bool integer) {
 // parse (the last two found by the mesh fuzz target). Throws LoadError saying what is wrong.
 void CheckPly(const std::string& path, const std::string& text) {
   if (text.rfind("ply", 0) != 0) throw LoadError(path, "not a PLY file (no 'ply' magic)");
-  const size_t end = text.find("end_header");
+  // The first line that is "end_header" (a property named "x:end_header" does not end the
+  // header for assimp, which then read the body as header and out of bounds: found by the mesh
+  // fuzz target).
+  size_t end = text.find("end_header");
+  while (end != std::string::npos && end <= 65536 &&
+         text.find_last_not_of(" \t", end - 1) != text.rfind('\n', end - 1))
+    end = text.find("end_header", end + 1);
   if (end == std::string::npos || end > 65536)
-    throw LoadError(path, "PLY header is incomplete (no end_header)");
+    throw LoadError(path, "PLY header is incomplete (no end_header line)");
   const size_t body_start = text.find('\n', end);
   if (body_start == std::string::npos || text.find_first_not_of(" \t\r", end + 10) != body_start)
     throw LoadError(path, "PLY end_header must end its line");

@@ -310,6 +310,9 @@ TEST(LoadMeshErrors, MalformedPly) {
       "PLY header line 3: 'element' needs 2 words after it, not 1");
   ExpectLoadError(dir.Write("nothing.ply", "ply\nformat binary_little_endian 1.0\nend_header\n"),
                   "PLY header declares no element");
+  ExpectLoadError(
+      dir.Write("end_in_a_name.ply", header.substr(0, header.size() - 11) + ":end_header\n" + body),
+      "PLY header is incomplete (no end_header line)");
 }
 
 }  // namespace
