@@ -45,8 +45,7 @@ std::string Read(const std::string& path) {
 TEST(Soak, ShortSoakIsFlatAndKeepsEstimating) {
   const std::string out = ::testing::TempDir() + "/soak_short";
   std::filesystem::remove_all(out);
-  const Result r =
-      Sh(Soak(out, "--frames 600 --warmup 100 --sample-period 0.5 --arena-max 1"));
+  const Result r = Sh(Soak(out, "--frames 600 --warmup 100 --sample-period 0.5 --arena-max 1"));
   std::printf("%s", r.output.c_str());
   const std::string summary = Read(out + "/summary.txt");
   ASSERT_EQ(r.status, 0) << summary;
