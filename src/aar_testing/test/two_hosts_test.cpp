@@ -145,7 +145,7 @@ TEST(TwoHosts, PosesComeBackAcrossTheLinkAndARestartedPerceptionHostResumes) {
 TEST(TwoHosts, ALinkThatIsDownFailsTheRunInTimeAndLeavesNothing) {
   TwoHosts run("d", "--break-link --timeout 20");
   EXPECT_EQ(run.result.status, 1);
-  EXPECT_LT(run.result.seconds, 120.0);  // measured s
+  EXPECT_LT(run.result.seconds, 90.0);  // measured 39.6 s (4 + master start + 20 + stop)
   EXPECT_NE(run.summary.find("FAIL: no pose came back across the link within 20 s"),
             std::string::npos)
       << run.summary;
