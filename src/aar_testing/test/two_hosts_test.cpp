@@ -96,8 +96,9 @@ TEST(TwoHosts, PosesComeBackAcrossTheLinkAndARestartedPerceptionHostResumes) {
   const std::string& s = run.summary;
   // Started before the camera host, the perception host waited, naming the master's URI.
   EXPECT_TRUE(std::regex_search(
-      s, std::regex("waiting: perception host: no ROS master at http://169\\.254\\.[0-9]+\\.1:21311 "
-                    "\\(Connection refused\\)")))
+      s,
+      std::regex("waiting: perception host: no ROS master at http://169\\.254\\.[0-9]+\\.1:21311 "
+                 "\\(Connection refused\\)")))
       << s;
   // Rate: every frame of the 2 Hz simulator answered with a pose across the link.
   for (const char* phase : {"phase 1", "phase 2"}) {
@@ -108,17 +109,18 @@ TEST(TwoHosts, PosesComeBackAcrossTheLinkAndARestartedPerceptionHostResumes) {
     EXPECT_GE(Number(s, std::string(phase) + ": .* poses at ([0-9.]+) Hz"), 1.6) << phase;
   }
   // Accuracy of the poses that came back (region B to contact): as on one machine.
-  EXPECT_GE(Number(s, "accuracy: ([0-9]+) poses"), 60.0);  // measured 116
-  EXPECT_LE(Number(s, "position error mean ([0-9.]+) m"), 0.05);  // measured 0.015 m
+  EXPECT_GE(Number(s, "accuracy: ([0-9]+) poses"), 60.0);           // measured 116
+  EXPECT_LE(Number(s, "position error mean ([0-9.]+) m"), 0.05);    // measured 0.015 m
   EXPECT_LE(Number(s, "position error .* p95 ([0-9.]+) m"), 0.10);  // measured 0.030 m
-  EXPECT_LE(Number(s, "angle error mean ([0-9.]+) deg"), 0.6);  // measured 0.198 deg
+  EXPECT_LE(Number(s, "angle error mean ([0-9.]+) deg"), 0.6);      // measured 0.198 deg
   // The perception host killed (every process, kill -9) and started again: poses resume, and the
   // camera host ran on (the same processes).
   EXPECT_GE(Number(s, "restart: perception host killed \\(([0-9]+) processes"), 4.0);
   // Measured 11.2 s (roslaunch, the nodelets and the receiver model on a loaded machine).
   EXPECT_LE(Number(s, "first pose ([0-9.]+) s after the restart"), 25.0);
   std::smatch kept;
-  ASSERT_TRUE(std::regex_search(s, kept, std::regex("camera host processes kept: (\\d+) of (\\d+)")))
+  ASSERT_TRUE(
+      std::regex_search(s, kept, std::regex("camera host processes kept: (\\d+) of (\\d+)")))
       << s;
   EXPECT_EQ(kept[1], kept[2]);
   EXPECT_GE(std::stoi(kept[2]), 5);  // roslaunch, rosmaster, rosout, sim, rsp, eval (6)
@@ -135,7 +137,7 @@ TEST(TwoHosts, PosesComeBackAcrossTheLinkAndARestartedPerceptionHostResumes) {
   EXPECT_GE(images, 2.40e6);  // measured 2.56e6 (the pair, TCP/IP, +-1 frame in the window)
   EXPECT_LE(images, 2.90e6);
   const double cloud = Number(s, "size: /stereo/points2 [0-9]+ messages, mean ([0-9]+) bytes");
-  EXPECT_GE(cloud, 5.0e4);  // measured 2.25e5
+  EXPECT_GE(cloud, 5.0e4);         // measured 2.25e5
   EXPECT_LE(cloud, images / 5.0);  // a tenth of the images
   EXPECT_EQ(run.LeftBehind(), "");
 }
