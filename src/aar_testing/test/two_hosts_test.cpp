@@ -103,20 +103,20 @@ TEST(TwoHosts, PosesComeBackAcrossTheLinkAndARestartedPerceptionHostResumes) {
   // Rate: every frame of the 2 Hz simulator answered with a pose across the link.
   for (const char* phase : {"phase 1", "phase 2"}) {
     const std::string p = std::string("\n") + phase + ": ([0-9]+) frames in [0-9.]+ s, ";
-    EXPECT_GE(Number(s, p), 16.0) << phase;  // 20 at 2 Hz in 10 s (measured 20 to 24)
-    // Measured 100 % in both phases, poses at 1.94 to 1.96 Hz.
+    EXPECT_GE(Number(s, p), 16.0) << phase;  // 20 at 2 Hz in 10 s (measured 20 and 21)
+    // Measured 100 % in both phases of four runs, poses at 1.94 to 2.05 Hz.
     EXPECT_GE(Number(s, std::string(phase) + ": .* with a pose \\(([0-9.]+) %\\)"), 90.0) << phase;
     EXPECT_GE(Number(s, std::string(phase) + ": .* poses at ([0-9.]+) Hz"), 1.6) << phase;
   }
   // Accuracy of the poses that came back (region B to contact): as on one machine.
-  EXPECT_GE(Number(s, "accuracy: ([0-9]+) poses"), 60.0);           // measured 116
-  EXPECT_LE(Number(s, "position error mean ([0-9.]+) m"), 0.05);    // measured 0.015 m
-  EXPECT_LE(Number(s, "position error .* p95 ([0-9.]+) m"), 0.10);  // measured 0.030 m
-  EXPECT_LE(Number(s, "angle error mean ([0-9.]+) deg"), 0.6);      // measured 0.198 deg
+  EXPECT_GE(Number(s, "accuracy: ([0-9]+) poses"), 60.0);           // measured 101 to 111
+  EXPECT_LE(Number(s, "position error mean ([0-9.]+) m"), 0.05);    // measured 0.013 to 0.016 m
+  EXPECT_LE(Number(s, "position error .* p95 ([0-9.]+) m"), 0.10);  // measured 0.026 to 0.037 m
+  EXPECT_LE(Number(s, "angle error mean ([0-9.]+) deg"), 0.6);      // measured 0.214 to 0.218 deg
   // The perception host killed (every process, kill -9) and started again: poses resume, and the
   // camera host ran on (the same processes).
   EXPECT_GE(Number(s, "restart: perception host killed \\(([0-9]+) processes"), 4.0);
-  // Measured 11.2 s (roslaunch, the nodelets and the receiver model on a loaded machine).
+  // Measured 7.65 to 10.35 s (roslaunch, the nodelets, the receiver model, acquisition; load 7).
   EXPECT_LE(Number(s, "first pose ([0-9.]+) s after the restart"), 25.0);
   std::smatch kept;
   ASSERT_TRUE(
@@ -134,10 +134,10 @@ TEST(TwoHosts, PosesComeBackAcrossTheLinkAndARestartedPerceptionHostResumes) {
   EXPECT_EQ(Number(s, "size: /stereo/left/image_rect [0-9]+ messages, mean ([0-9]+) bytes"),
             1228861.0);  // 1280 x 960 + header
   const double images = Number(s, "bandwidth: images on the link ([0-9]+) bytes a frame");
-  EXPECT_GE(images, 2.40e6);  // measured 2.56e6 (the pair, TCP/IP, +-1 frame in the window)
+  EXPECT_GE(images, 2.40e6);  // measured 2.44e6 to 2.58e6 (the pair, TCP/IP; 10 s windows vary)
   EXPECT_LE(images, 2.90e6);
   const double cloud = Number(s, "size: /stereo/points2 [0-9]+ messages, mean ([0-9]+) bytes");
-  EXPECT_GE(cloud, 5.0e4);         // measured 2.25e5
+  EXPECT_GE(cloud, 5.0e4);         // measured 1.61e5 to 2.25e5 (it grows with the range)
   EXPECT_LE(cloud, images / 5.0);  // a tenth of the images
   EXPECT_EQ(run.LeftBehind(), "");
 }
@@ -147,7 +147,7 @@ TEST(TwoHosts, PosesComeBackAcrossTheLinkAndARestartedPerceptionHostResumes) {
 TEST(TwoHosts, ALinkThatIsDownFailsTheRunInTimeAndLeavesNothing) {
   TwoHosts run("d", "--break-link --timeout 20");
   EXPECT_EQ(run.result.status, 1);
-  EXPECT_LT(run.result.seconds, 90.0);  // measured 39.6 s (4 + master start + 20 + stop)
+  EXPECT_LT(run.result.seconds, 90.0);  // measured 36.9 to 54.7 s (4, master start-up, 20, stop)
   EXPECT_NE(run.summary.find("FAIL: no pose came back across the link within 20 s"),
             std::string::npos)
       << run.summary;
