@@ -69,8 +69,8 @@ class TwoHosts {
   ~TwoHosts() {
     for (const char* side : {"-per", "-cam"}) RemoveNamespace(name + side);
   }
-  // What the run left: its namespaces, and processes whose command line names its folder (every
-  // ROS process of it has its log folder there).
+  // What the run left: its namespaces, and processes whose command line or environment names its
+  // folder (each process it starts in a namespace has its ROS_HOME there).
   std::string LeftBehind() const {
     std::string left =
         Sh("ip netns list | awk '{print $1}' | grep -x -e " + name + "-cam -e " + name + "-per")
@@ -80,7 +80,9 @@ class TwoHosts {
       if (pid.find_first_not_of("0123456789") != std::string::npos) continue;
       std::string cmd = Read(entry.path() / "cmdline");
       std::replace(cmd.begin(), cmd.end(), '\0', ' ');
-      if (cmd.find(out) != std::string::npos) left += "process " + pid + ": " + cmd + "\n";
+      if (cmd.find(out) != std::string::npos ||
+          Read(entry.path() / "environ").find("ROS_HOME=" + out) != std::string::npos)
+        left += "process " + pid + ": " + cmd + "\n";
     }
     return left;
   }
