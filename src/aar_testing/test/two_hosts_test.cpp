@@ -149,7 +149,7 @@ TEST(TwoHosts, PosesComeBackAcrossTheLinkAndARestartedPerceptionHostResumes) {
 TEST(TwoHosts, ALinkThatIsDownFailsTheRunInTimeAndLeavesNothing) {
   TwoHosts run("d", "--break-link --timeout 20");
   EXPECT_EQ(run.result.status, 1);
-  EXPECT_LT(run.result.seconds, 90.0);  // measured 36.9 to 54.7 s (4, master start-up, 20, stop)
+  EXPECT_LT(run.result.seconds, 120.0);  // measured 36.9 to 58.0 s (4, master start-up, 20, stop)
   EXPECT_NE(run.summary.find("FAIL: no pose came back across the link within 20 s"),
             std::string::npos)
       << run.summary;
