@@ -1,0 +1,216 @@
+// Two hosts (issue 15), built for real on this machine by scripts/two-hosts netns: two network
+// namespaces of the test's own, joined by a veth pair on link-local addresses (169.254.X.1 and
+// .2), the camera host (simulator at 2 Hz, the ROS master, eval against truth) in one and the
+// perception host (stereo -> occlusion -> registration) in the other. Poses come back across the
+// link at the frame rate and with the accuracy of one machine; the perception host killed and
+// started again resumes estimation while the camera host runs on; a perception host pointed at a
+// master that is not there says which URI and waits; with the link down the run fails, in time.
+// Nothing is left behind: both namespaces and every process of the run are gone at the end.
+// Needs root (ip netns), as CI's tests run. Bounds sit beyond the values measured here (in the
+// comments; docs/MULTI_HOST.md), on a machine also running a sanitized suite (load 6 to 9).
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <sstream>
+#include <string>
+#include <utility>
+
+#include "aar_testing/command.h"
+#include "aar_testing/paths.h"
+
+namespace {
+
+const std::string kRoot = aar_testing::WorkspaceRoot();
+
+using Result = aar_testing::CommandResult;
+const auto Sh = aar_testing::RunCommand;
+
+std::string Read(const std::string& path) {
+  std::ifstream f(path);
+  std::stringstream s;
+  s << f.rdbuf();
+  return s.str();
+}
+
+double Number(const std::string& text, const std::string& pattern) {
+  std::smatch m;
+  if (!std::regex_search(text, m, std::regex(pattern))) {
+    ADD_FAILURE() << "not found: " << pattern << " in\n" << text;
+    return -1.0;
+  }
+  return std::stod(m[1]);
+}
+
+// Kills every process in network namespace `ns` (ours: made by this test or its run) and
+// removes it, if it exists.
+void RemoveNamespace(const std::string& ns) {
+  Sh("if ip netns list | awk '{print $1}' | grep -qx " + ns + "; then p=$(ip netns pids " + ns +
+     "); [ -z \"$p\" ] || kill -9 $p; sleep 1; ip netns del " + ns + "; fi");
+}
+
+// One run of scripts/two-hosts netns under a name of this test's own; whatever the run leaves
+// (it cannot, unless it was killed outright) is removed by the destructor, by namespace.
+class TwoHosts {
+ public:
+  TwoHosts(const std::string& label, const std::string& options)
+      : name("aarht" + std::to_string(::getpid() % 100000) + label),
+        out(::testing::TempDir() + "/two_hosts_" + label) {
+    std::filesystem::remove_all(out);
+    result = Sh("timeout -k 20 300 " + kRoot + "/scripts/two-hosts netns --no-build --name " +
+                name + " --out " + out + " " + options);
+    std::printf("%s", result.output.c_str());
+    summary = Read(out + "/summary.txt");
+  }
+  ~TwoHosts() {
+    for (const char* side : {"-per", "-cam"}) RemoveNamespace(name + side);
+  }
+  // What the run left: its namespaces, and processes whose command line or environment names its
+  // folder (each process it starts in a namespace has its ROS_HOME there).
+  std::string LeftBehind() const {
+    std::string left =
+        Sh("ip netns list | awk '{print $1}' | grep -x -e " + name + "-cam -e " + name + "-per")
+            .output;
+    for (const auto& entry : std::filesystem::directory_iterator("/proc")) {
+      const std::string pid = entry.path().filename();
+      if (pid.find_first_not_of("0123456789") != std::string::npos) continue;
+      std::string cmd = Read(entry.path() / "cmdline");
+      std::replace(cmd.begin(), cmd.end(), '\0', ' ');
+      if (cmd.find(out) != std::string::npos ||
+          Read(entry.path() / "environ").find("ROS_HOME=" + out) != std::string::npos)
+        left += "process " + pid + ": " + cmd + "\n";
+    }
+    return left;
+  }
+
+  const std::string name, out;
+  Result result;
+  std::string summary;
+};
+
+TEST(TwoHosts, PosesComeBackAcrossTheLinkAndARestartedPerceptionHostResumes) {
+  TwoHosts run("k", "--phase 10");
+  ASSERT_EQ(run.result.status, 0) << run.summary;
+  const std::string& s = run.summary;
+  // Started before the camera host, the perception host waited, naming the master's URI.
+  EXPECT_TRUE(std::regex_search(
+      s,
+      std::regex("waiting: perception host: no ROS master at http://169\\.254\\.[0-9]+\\.1:21311 "
+                 "\\(Connection refused\\)")))
+      << s;
+  // Rate: every frame of the 2 Hz simulator answered with a pose across the link.
+  for (const char* phase : {"phase 1", "phase 2"}) {
+    const std::string p = std::string("\n") + phase + ": ([0-9]+) frames in [0-9.]+ s, ";
+    EXPECT_GE(Number(s, p), 16.0) << phase;  // 20 at 2 Hz in 10 s (measured 20 and 21)
+    // Measured 100 % in both phases of four runs, poses at 1.94 to 2.05 Hz.
+    EXPECT_GE(Number(s, std::string(phase) + ": .* with a pose \\(([0-9.]+) %\\)"), 90.0) << phase;
+    EXPECT_GE(Number(s, std::string(phase) + ": .* poses at ([0-9.]+) Hz"), 1.6) << phase;
+  }
+  // Accuracy of the poses that came back (region B to contact): as on one machine.
+  EXPECT_GE(Number(s, "accuracy: ([0-9]+) poses"), 60.0);           // measured 101 to 111
+  EXPECT_LE(Number(s, "position error mean ([0-9.]+) m"), 0.05);    // measured 0.013 to 0.016 m
+  EXPECT_LE(Number(s, "position error .* p95 ([0-9.]+) m"), 0.10);  // measured 0.026 to 0.037 m
+  EXPECT_LE(Number(s, "angle error mean ([0-9.]+) deg"), 0.6);      // measured 0.214 to 0.218 deg
+  // The perception host killed (every process, kill -9) and started again: poses resume, and the
+  // camera host ran on (the same processes).
+  EXPECT_GE(Number(s, "restart: perception host killed \\(([0-9]+) processes"), 4.0);
+  // Measured 7.65 to 10.35 s (roslaunch, the nodelets, the receiver model, acquisition; load 7).
+  EXPECT_LE(Number(s, "first pose ([0-9.]+) s after the restart"), 25.0);
+  std::smatch kept;
+  ASSERT_TRUE(
+      std::regex_search(s, kept, std::regex("camera host processes kept: (\\d+) of (\\d+)")))
+      << s;
+  EXPECT_EQ(kept[1], kept[2]);
+  EXPECT_GE(std::stoi(kept[2]), 5);  // roslaunch, rosmaster, rosout, sim, rsp, eval (6)
+  // A master that is not there: named, waited for, no crash.
+  EXPECT_TRUE(std::regex_search(
+      s, std::regex("wrong master: .*http://169\\.254\\.[0-9]+\\.99:21311 was still waiting when "
+                    "stopped after 12 s .*it said: perception host: no ROS master at "
+                    "http://169\\.254\\.[0-9]+\\.99:21311 \\(")))
+      << s;
+  // Bandwidth: a 1280x960 mono8 pair with its camera infos, and the cloud near contact.
+  EXPECT_EQ(Number(s, "size: /stereo/left/image_rect [0-9]+ messages, mean ([0-9]+) bytes"),
+            1228861.0);  // 1280 x 960 + header
+  const double images = Number(s, "bandwidth: images on the link ([0-9]+) bytes a frame");
+  EXPECT_GE(images, 2.40e6);  // measured 2.44e6 to 2.58e6 (the pair, TCP/IP; 10 s windows vary)
+  EXPECT_LE(images, 2.90e6);
+  const double cloud = Number(s, "size: /stereo/points2 [0-9]+ messages, mean ([0-9]+) bytes");
+  EXPECT_GE(cloud, 5.0e4);         // measured 1.61e5 to 2.25e5 (it grows with the range)
+  EXPECT_LE(cloud, images / 5.0);  // a tenth of the images
+  EXPECT_EQ(run.LeftBehind(), "");
+}
+
+// The link down (the perception host's end of the veth never comes up): no master, no pose. The
+// run fails within its timeout, says so, and the perception host kept waiting, naming the URI.
+TEST(TwoHosts, ALinkThatIsDownFailsTheRunInTimeAndLeavesNothing) {
+  TwoHosts run("d", "--break-link --timeout 20");
+  EXPECT_EQ(run.result.status, 1);
+  EXPECT_LT(run.result.seconds, 120.0);  // measured 36.9 to 58.0 s (4, master start-up, 20, stop)
+  EXPECT_NE(run.summary.find("FAIL: no pose came back across the link within 20 s"),
+            std::string::npos)
+      << run.summary;
+  const std::string perception = Read(run.out + "/perception.log");
+  EXPECT_TRUE(std::regex_search(
+      perception,
+      std::regex("perception host: no ROS master at http://169\\.254\\.[0-9]+\\.1:21311 \\(")))
+      << perception;
+  EXPECT_EQ(perception.find("starting the processing graph"), std::string::npos) << perception;
+  EXPECT_EQ(run.LeftBehind(), "");
+}
+
+TEST(TwoHosts, BadArgumentsAreNamedAndRefused) {
+  const std::pair<std::string, std::string> cases[] = {
+      {"", "say which: camera, perception or netns"},
+      {"hosts", "unknown mode 'hosts'"},
+      {"camera", "camera: --ip ADDR is needed"},
+      {"camera --ip 300.1.1.1", "camera: --ip takes an IPv4 address, not '300.1.1.1'"},
+      {"camera --ip 169.254.77.77", "camera: --ip 169.254.77.77 is not an address of this host"},
+      {"camera --ip 127.0.0.1 --port 80", "--port takes a port from 1024 to 65535, not '80'"},
+      {"camera --ip 127.0.0.1 --rate 0", "--rate takes frames per second (above 0, at most 60)"},
+      {"camera --ip 127.0.0.1 --bag /nonexistent.bag", "--bag '/nonexistent.bag' does not exist"},
+      {"perception --ip 127.0.0.1", "perception: --master URI is needed"},
+      {"perception --master 169.254.1.1:21311 --ip 127.0.0.1",
+       "--master takes http://HOST:PORT (the camera host's master), not '169.254.1.1:21311'"},
+      {"perception --master http://169.254.1.1:21311", "perception: --ip ADDR is needed"},
+      {"perception --master http://169.254.1.1:21311 --ip 127.0.0.1 --experiment nonsense",
+       "no experiment 'nonsense' in config/experiments/"},
+      {"netns --rate 100", "--rate takes frames per second from 0.5 to 30, not '100'"},
+      {"netns --phase 1", "--phase takes whole seconds (at least 4), not '1'"},
+      {"netns --name Bad-Name", "--name takes 2 to 13 lower-case letters and digits"},
+      {"netns --timeout", "--timeout needs a value"},
+      {"netns --nonsense", "netns: unknown argument '--nonsense'"},
+  };
+  for (const auto& [options, needle] : cases) {
+    const Result r = Sh(kRoot + "/scripts/two-hosts " + options);
+    EXPECT_EQ(r.status, 2) << options << ": " << r.output;
+    EXPECT_NE(r.output.find(needle), std::string::npos) << options << ": " << r.output;
+  }
+}
+
+// Given a master it cannot reach and --give-up, the perception host names the URI and the reason
+// and ends with status 1 (without --give-up it waits for ever, as the netns run shows). In a
+// namespace of the test's own with only its loopback: nothing leaves it.
+TEST(TwoHosts, PerceptionHostGivesUpOnAnUnreachableMasterWhenAskedTo) {
+  const std::string ns = "aarht" + std::to_string(::getpid() % 100000) + "g";
+  RemoveNamespace(ns);
+  ASSERT_EQ(Sh("ip netns add " + ns + " && ip -n " + ns + " link set lo up").status, 0);
+  const Result r = Sh("ip netns exec " + ns + " " + kRoot +
+                      "/scripts/two-hosts perception --master http://169.254.1.1:21311 --ip "
+                      "127.0.0.1 --give-up 4");
+  RemoveNamespace(ns);
+  EXPECT_EQ(r.status, 1) << r.output;
+  EXPECT_NE(r.output.find("perception host: no ROS master at http://169.254.1.1:21311 (Network "
+                          "is unreachable)"),
+            std::string::npos)
+      << r.output;
+  EXPECT_TRUE(std::regex_search(
+      r.output, std::regex("gave up after [0-9]+ s: no ROS master at http://169.254.1.1:21311")))
+      << r.output;
+  EXPECT_LT(r.seconds, 30.0);
+}
+
+}  // namespace
