@@ -1,6 +1,8 @@
 #include "aar_sim/world.h"
 
 #include <algorithm>
+#include <stdexcept>
+#include <string>
 
 #include <aar_geometry/mesh_io.h>
 
@@ -23,8 +25,15 @@ RendererOptions WithRigIntrinsics(RendererOptions renderer, const StereoRig& rig
   return renderer;
 }
 
-std::unique_ptr<RawCamera> MakeRaw(const WorldOptions& o, const LensOptions& lens) {
-  return o.raw.enabled ? std::make_unique<RawCamera>(o.rig.intrinsics, lens) : nullptr;
+std::unique_ptr<RawCamera> MakeRaw(const WorldOptions& o, const LensOptions& lens,
+                                   const std::string& side) {
+  if (!o.raw.enabled) return nullptr;
+  try {
+    return std::make_unique<RawCamera>(o.rig.intrinsics, lens);
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(side + " camera (" + side + "_distortion, " + side +
+                                "_rotation_deg): " + e.what());
+  }
 }
 
 Eigen::Vector2i ViewMargin(const RawCamera* left, const RawCamera* right) {
@@ -69,8 +78,8 @@ World::World(const WorldOptions& options)
     : options_(options),
       receiver_(aar_geometry::LoadMesh(options.receiver_mesh)),
       boom_(aar_geometry::LoadRobotModel(options.boom_urdf, options.urdf)),
-      raw_left_(MakeRaw(options, options.raw.left)),
-      raw_right_(MakeRaw(options, options.raw.right)),
+      raw_left_(MakeRaw(options, options.raw.left, "left")),
+      raw_right_(MakeRaw(options, options.raw.right, "right")),
       view_margin_(ViewMargin(raw_left_.get(), raw_right_.get())),
       renderer_(WithRigIntrinsics(options.renderer, options.rig, view_margin_)) {
   options_.renderer.intrinsics = options_.rig.intrinsics;
