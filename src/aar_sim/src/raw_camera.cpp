@@ -39,8 +39,7 @@ RawCamera::RawCamera(const CameraIntrinsics& rectified, const LensOptions& lens)
   for (double d : lens.distortion) {
     if (!std::isfinite(d)) throw std::invalid_argument("lens distortion must be finite");
   }
-  if (!lens.rotation_deg.allFinite())
-    throw std::invalid_argument("lens rotation must be finite");
+  if (!lens.rotation_deg.allFinite()) throw std::invalid_argument("lens rotation must be finite");
   const cv::Matx33d K(k_.fx, 0, k_.cx, 0, k_.fy, k_.cy, 0, 0, 1);
   const cv::Matx33d P = K;  // the rectified projection's left 3x3 (Tx plays no part in a map)
   cv::Matx33d R;
@@ -53,9 +52,11 @@ RawCamera::RawCamera(const CameraIntrinsics& rectified, const LensOptions& lens)
   std::vector<cv::Point2f> raw, rect;
   raw.reserve(static_cast<size_t>(k_.width) * k_.height);
   for (int v = 0; v < k_.height; ++v)
-    for (int u = 0; u < k_.width; ++u) raw.emplace_back(static_cast<float>(u), static_cast<float>(v));
-  cv::undistortPoints(raw, rect, K, D, R, P,
-                      cv::TermCriteria(cv::TermCriteria::COUNT + cv::TermCriteria::EPS, 100, 1e-12));
+    for (int u = 0; u < k_.width; ++u)
+      raw.emplace_back(static_cast<float>(u), static_cast<float>(v));
+  cv::undistortPoints(
+      raw, rect, K, D, R, P,
+      cv::TermCriteria(cv::TermCriteria::COUNT + cv::TermCriteria::EPS, 100, 1e-12));
   map_x_.create(k_.height, k_.width, CV_32F);
   map_y_.create(k_.height, k_.width, CV_32F);
   size_t outside = 0;
@@ -72,8 +73,9 @@ RawCamera::RawCamera(const CameraIntrinsics& rectified, const LensOptions& lens)
   }
   outside_fraction_ = static_cast<double>(outside) / rect.size();
   if (!(beyond_x < k_.width && beyond_y < k_.height))
-    throw std::invalid_argument("lens distortion makes the raw camera see more than three times "
-                                "the rectified view: not a lens a calibration would give");
+    throw std::invalid_argument(
+        "lens distortion makes the raw camera see more than three times "
+        "the rectified view: not a lens a calibration would give");
   margin_x_ = beyond_x > 0.0f ? static_cast<int>(std::ceil(beyond_x)) + 2 : 0;
   margin_y_ = beyond_y > 0.0f ? static_cast<int>(std::ceil(beyond_y)) + 2 : 0;
   // A lens folding back on itself (strong pincushion, k1 far too large) is no calibration.
@@ -123,8 +125,9 @@ Eigen::Vector2d RawCamera::RectifiedPixel(double u, double v) const {
     for (int j = 0; j < 3; ++j) R(i, j) = R_rect_raw_(i, j);
   const cv::Mat D(1, 5, CV_64F, const_cast<double*>(lens_.distortion.data()));
   std::vector<cv::Point2d> raw{{u, v}}, rect;
-  cv::undistortPoints(raw, rect, K, D, R, K,
-                      cv::TermCriteria(cv::TermCriteria::COUNT + cv::TermCriteria::EPS, 100, 1e-12));
+  cv::undistortPoints(
+      raw, rect, K, D, R, K,
+      cv::TermCriteria(cv::TermCriteria::COUNT + cv::TermCriteria::EPS, 100, 1e-12));
   return {rect[0].x, rect[0].y};
 }
 

@@ -42,8 +42,8 @@ TEST(RawCamera, InverseOfImageProcsRectification) {
     EXPECT_LT(worst, 1e-3);  // [px] image_proc-style float maps; measured 8.5e-5
     // Barrel: the raw corner looks beyond the rectified view; about 10 % at the corners.
     const Eigen::Vector2d corner = camera.RectifiedPixel(0.0, 0.0);
-    EXPECT_LT(corner.x(), -80.0);  // [px] measured -115 (left), -89 (right)
-    EXPECT_LT(corner.y(), -50.0);  // [px] measured -88, -63
+    EXPECT_LT(corner.x(), -80.0);                // [px] measured -115 (left), -89 (right)
+    EXPECT_LT(corner.y(), -50.0);                // [px] measured -88, -63
     EXPECT_GT(camera.outside_fraction(), 0.10);  // measured 0.153 (left), 0.143 (right)
     EXPECT_LT(camera.outside_fraction(), 0.20);
     // The margins cover every raw pixel's rectified position.

@@ -149,8 +149,8 @@ TEST(Renderer, RawCamerasSeeTheRectifiedViewThroughTheirLenses) {
       for (int j = 0; j < 3; ++j) R(i, j) = cam.R_rect_raw()(i, j);
     cv::Mat D(1, 5, CV_64F, const_cast<double*>(cam.D().data())), m1, m2, rect;
     cv::initUndistortRectifyMap(K, D, R, K, cv::Size(640, 480), CV_16SC2, m1, m2);
-    cv::remap(cv::Mat(480, 640, CV_8UC1, const_cast<uint8_t*>(raw_image.data.data())), rect, m1,
-              m2, cv::INTER_LINEAR);
+    cv::remap(cv::Mat(480, 640, CV_8UC1, const_cast<uint8_t*>(raw_image.data.data())), rect, m1, m2,
+              cv::INTER_LINEAR);
     for (int v = 10; v < 470; ++v) {
       for (int u = 10; u < 630; ++u, ++n) {
         same += std::abs(grown.at(u, v) - ideal.at(u, v));
@@ -158,7 +158,19 @@ TEST(Renderer, RawCamerasSeeTheRectifiedViewThroughTheirLenses) {
       }
     }
     EXPECT_LT(same / n, 0.01);  // [grey levels] measured 2.8e-5 (left), 1.4e-5 (right)
-    EXPECT_LT(back / n, 0.6);  // [grey levels] two interpolations at edges; measured 0.38
+    EXPECT_LT(back / n, 0.6);   // [grey levels] two interpolations at edges; measured 0.38
+  }
+  // A lens no calibration would give is refused before rendering, naming the camera's keys.
+  WorldOptions folding = raw_options;
+  folding.raw.right.distortion = {-3.0, 0.0, 0.0, 0.0, 0.0};
+  try {
+    World bad(folding);
+    ADD_FAILURE() << "a folding lens was accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("right camera (right_distortion, right_rotation_deg): "
+                                         "lens distortion folds"),
+              std::string::npos)
+        << e.what();
   }
 }
 

@@ -40,9 +40,9 @@ int main(int argc, char** argv) {
   const auto k = aar_sim::CameraIntrinsics::FromHorizontalFov(1280, 960, 60.0);
   const auto t0 = std::chrono::steady_clock::now();
   aar_sim::RawCamera camera(k, aar_sim::DefaultRawCameraOptions().left);
-  std::printf("RawCamera maps (once): %.0f ms\n",
-              std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
-                  .count());
+  std::printf(
+      "RawCamera maps (once): %.0f ms\n",
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
   camera.SetViewMargin(camera.margin_x(), camera.margin_y());
   aar_sim::Image<uint8_t> view;
   view.width = k.width + 2 * camera.margin_x();

@@ -114,8 +114,9 @@ TEST(Conversions, BadCameraInfosNameTheTopic) {
   expect(zero_f, r, {"left camera info (/stereo/left/camera_info)", "zero focal length"});
   sensor_msgs::CameraInfo small = r;
   small.height = 480;
-  expect(l, small, {"camera infos differ in size", "left (/stereo/left/camera_info) 1280x960",
-                    "right (/stereo/right/camera_info) 1280x480"});
+  expect(l, small,
+         {"camera infos differ in size", "left (/stereo/left/camera_info) 1280x960",
+          "right (/stereo/right/camera_info) 1280x480"});
   sensor_msgs::CameraInfo no_tx = r;
   no_tx.P[3] = 0.0;
   expect(l, no_tx, {"right camera info (/stereo/right/camera_info) P has no baseline"});

@@ -37,7 +37,7 @@ int FreePort() {  // scripts/ros-port: a free port for a master of our own
 }
 
 struct FrameError {
-  double t = 0.0;                                   // [s] path time
+  double t = 0.0;  // [s] path time
   bool estimated = false;
   Eigen::Vector3d position_m = Eigen::Vector3d::Zero();  // along the true receiver axes
   Eigen::Vector3d rpy_deg = Eigen::Vector3d::Zero();     // roll, pitch, yaw of the error
@@ -47,7 +47,7 @@ struct PipelineRun {
   std::vector<FrameError> frames;
   int estimated = 0;
   double mean_position_m = NAN, mean_rotation_deg = NAN;  // over the estimated frames
-  std::string log;                                       // roslaunch's output
+  std::string log;                                        // roslaunch's output
 };
 
 PipelineRun RunPipeline(const std::string& tag, const std::string& args) {
@@ -121,9 +121,9 @@ TEST(RawCameras, RectifiedRawCamerasMatchPinholeNearContact) {
   }
   std::printf("[ rawcam ] per frame, rectified - pinhole: at most %.4f m, %.3f deg\n",
               worst_position, worst_rotation);
-  EXPECT_LT(worst_position, 0.045);  // [m] measured 0.032
-  EXPECT_LT(worst_rotation, 0.4);    // [deg] measured 0.29
-  EXPECT_LT(rectified.mean_position_m, pinhole.mean_position_m + 0.01);  // measured +0.0043 m
+  EXPECT_LT(worst_position, 0.045);                                         // [m] measured 0.032
+  EXPECT_LT(worst_rotation, 0.4);                                           // [deg] measured 0.29
+  EXPECT_LT(rectified.mean_position_m, pinhole.mean_position_m + 0.01);     // measured +0.0043 m
   EXPECT_LT(rectified.mean_rotation_deg, pinhole.mean_rotation_deg + 0.1);  // measured -0.018
   // The rectify nodelets ran (loaded into the processing manager), and aar_stereo, told the
   // images are rectified upstream, did not warn about the raw cameras' D.

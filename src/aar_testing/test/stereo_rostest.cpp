@@ -197,9 +197,10 @@ TEST(BadInput, ErrorsAreNamedFramesSkippedNodeAlive) {
   short_d.right_info.distortion_model = "plumb_bob";
   short_d.right_info.D = {-0.2, 0.1, 0.0};
   f.Publish(short_d);
-  EXPECT_TRUE(f.ErrorLogged("right camera info (/bad/right/camera_info) has 3 distortion "
-                            "coefficients D; model plumb_bob takes 5",
-                            7.0));
+  EXPECT_TRUE(
+      f.ErrorLogged("right camera info (/bad/right/camera_info) has 3 distortion "
+                    "coefficients D; model plumb_bob takes 5",
+                    7.0));
   Pair zero_f = GoodPair(ros::Time(t += 1));
   zero_f.right_info.P[5] = 0.0;
   f.Publish(zero_f);
@@ -210,9 +211,10 @@ TEST(BadInput, ErrorsAreNamedFramesSkippedNodeAlive) {
   Pair info_sizes = GoodPair(ros::Time(t += 1));
   info_sizes.right_info.width = 80;
   f.Publish(info_sizes);
-  EXPECT_TRUE(f.ErrorLogged("camera infos differ in size: left (/bad/left/camera_info) 160x120, "
-                            "right (/bad/right/camera_info) 80x120",
-                            7.0));
+  EXPECT_TRUE(
+      f.ErrorLogged("camera infos differ in size: left (/bad/left/camera_info) 160x120, "
+                    "right (/bad/right/camera_info) 80x120",
+                    7.0));
   Pair no_baseline = GoodPair(ros::Time(t += 1));
   no_baseline.right_info.P[3] = 0.0;
   f.Publish(no_baseline);

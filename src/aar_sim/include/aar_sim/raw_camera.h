@@ -64,7 +64,7 @@ class RawCamera {
   CameraIntrinsics k_;
   LensOptions lens_;
   Eigen::Matrix3d R_rect_raw_;
-  cv::Mat map_x_, map_y_;  // CV_32F: rectified position of each raw pixel
+  cv::Mat map_x_, map_y_;    // CV_32F: rectified position of each raw pixel
   cv::Mat fixed1_, fixed2_;  // the same with the view margins, as fixed-point maps (speed)
   double outside_fraction_ = 0.0;
   int margin_x_ = 0, margin_y_ = 0;

@@ -31,13 +31,12 @@ std::string DescribeDistortion(const sensor_msgs::CameraInfo& info) {
 }
 
 StereoGeometry ToStereoGeometry(const sensor_msgs::CameraInfo& left,
-                                const sensor_msgs::CameraInfo& right,
-                                const std::string& left_topic, const std::string& right_topic) {
+                                const sensor_msgs::CameraInfo& right, const std::string& left_topic,
+                                const std::string& right_topic) {
   // image_geometry asserts (aborts) or divides by zero on what is checked here: checked first.
   for (const auto* info : {&left, &right}) {
-    const std::string which =
-        (info == &left ? "left" : "right") + std::string(" camera info (") +
-        (info == &left ? left_topic : right_topic) + ")";
+    const std::string which = (info == &left ? "left" : "right") + std::string(" camera info (") +
+                              (info == &left ? left_topic : right_topic) + ")";
     for (double p : info->P) {
       if (!std::isfinite(p)) throw std::invalid_argument(which + " P is not finite");
     }

@@ -182,9 +182,8 @@ void StereoNode::OnFrame(const Image::ConstPtr& left, const Info::ConstPtr& left
     }
   }
   try {
-    const StereoGeometry geometry = ToStereoGeometry(*left_info, *right_info,
-                                                     left_info_sub_.getTopic(),
-                                                     right_info_sub_.getTopic());
+    const StereoGeometry geometry = ToStereoGeometry(
+        *left_info, *right_info, left_info_sub_.getTopic(), right_info_sub_.getTopic());
     if (!options_.rectified_upstream) WarnIfDistorted(*left_info, *right_info);
     const cv::Mat l = ToMono8(*left, "left"), r = ToMono8(*right, "right");
     std::lock_guard<std::mutex> lock(mutex_);
@@ -330,7 +329,8 @@ void StereoNode::Diagnose(diagnostic_updater::DiagnosticStatusWrapper& status) {
   status.add("pairs dropped as out of order", order_.dropped());
   status.add("pairs dropped, halves apart (max_pair_skew)", static_cast<uint64_t>(skewed_));
   if (!options_.rectified_upstream)
-    status.add("pairs with distorted camera infos (unrectified?)", static_cast<uint64_t>(distorted_));
+    status.add("pairs with distorted camera infos (unrectified?)",
+               static_cast<uint64_t>(distorted_));
   status.add("points (last frame)", last_points_);
   status.add("matching [ms]", last_timings_.matching_ms);
   status.add("reprojection [ms]", last_timings_.reprojection_ms);

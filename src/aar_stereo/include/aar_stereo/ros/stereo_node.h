@@ -130,7 +130,7 @@ class StereoNode {
   diagnostic_updater::Updater diagnostics_;
   std::atomic<uint64_t> frames_{0}, skipped_{0}, stale_{0}, skewed_{0};
   std::atomic<uint64_t> distorted_{0};  // pairs whose camera infos had a non-zero D
-  aar_ros_common::StampOrder order_;  // pairs are taken in stamp order
+  aar_ros_common::StampOrder order_;    // pairs are taken in stamp order
   std::mutex stats_mutex_;
   StereoTimings last_timings_;
   size_t last_points_ = 0;
