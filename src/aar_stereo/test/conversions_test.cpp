@@ -57,16 +57,20 @@ TEST(Conversions, BadCameraInfosAndImagesNameTheProblem) {
   };
   sensor_msgs::CameraInfo zero = l;
   zero.P.fill(0.0);
-  expect([&] { ToStereoGeometry(zero, r); }, "left camera info has no valid projection matrix P");
+  expect([&] { ToStereoGeometry(zero, r); },
+         "left camera info (left) has no valid projection matrix P");
   sensor_msgs::CameraInfo no_baseline = r;
   no_baseline.P[3] = 0.0;
-  expect([&] { ToStereoGeometry(l, no_baseline); }, "must be negative");
+  expect([&] { ToStereoGeometry(l, no_baseline); }, "right camera info (right) P has no baseline");
+  sensor_msgs::CameraInfo wrong_side = r;
+  wrong_side.P[3] = 100.0;
+  expect([&] { ToStereoGeometry(l, wrong_side); }, "must be negative");
   sensor_msgs::CameraInfo smaller = r;
   smaller.width = 640;
   expect([&] { ToStereoGeometry(l, smaller); }, "camera infos differ in size");
   sensor_msgs::CameraInfo nan = r;
   nan.P[2] = std::nan("");
-  expect([&] { ToStereoGeometry(l, nan); }, "right camera info P is not finite");
+  expect([&] { ToStereoGeometry(l, nan); }, "right camera info (right) P is not finite");
 
   sensor_msgs::Image image;
   image.encoding = sensor_msgs::image_encodings::RGB8;
@@ -79,6 +83,71 @@ TEST(Conversions, BadCameraInfosAndImagesNameTheProblem) {
   image.step = 4;
   image.data.resize(5);
   expect([&] { ToMono8(image, "right"); }, "right image is malformed");
+}
+
+// Each bad camera info named with its problem and its topic (issue 15's bad input).
+TEST(Conversions, BadCameraInfosNameTheTopic) {
+  const auto [l, r] = Infos();
+  auto expect = [](const sensor_msgs::CameraInfo& left, const sensor_msgs::CameraInfo& right,
+                   const std::vector<std::string>& texts) {
+    try {
+      ToStereoGeometry(left, right, "/stereo/left/camera_info", "/stereo/right/camera_info");
+      ADD_FAILURE() << "accepted: " << texts.front();
+    } catch (const std::invalid_argument& e) {
+      for (const auto& text : texts)
+        EXPECT_NE(std::string(e.what()).find(text), std::string::npos) << e.what();
+    }
+  };
+  sensor_msgs::CameraInfo short_d = r;  // plumb_bob takes 5
+  short_d.D = {-0.2, 0.1, 0.0};
+  expect(l, short_d,
+         {"right camera info (/stereo/right/camera_info) has 3 distortion coefficients D",
+          "model plumb_bob takes 5"});
+  sensor_msgs::CameraInfo rational = l;  // rational_polynomial takes 8
+  rational.distortion_model = "rational_polynomial";
+  expect(rational, r, {"left camera info (/stereo/left/camera_info) has 5", "takes 8"});
+  sensor_msgs::CameraInfo unknown = l;
+  unknown.distortion_model = "fisheye_42";
+  expect(unknown, r, {"/stereo/left/camera_info", "distortion model 'fisheye_42'"});
+  sensor_msgs::CameraInfo zero_f = l;
+  zero_f.P[0] = 0.0;
+  expect(zero_f, r, {"left camera info (/stereo/left/camera_info)", "zero focal length"});
+  sensor_msgs::CameraInfo small = r;
+  small.height = 480;
+  expect(l, small,
+         {"camera infos differ in size", "left (/stereo/left/camera_info) 1280x960",
+          "right (/stereo/right/camera_info) 1280x480"});
+  sensor_msgs::CameraInfo no_tx = r;
+  no_tx.P[3] = 0.0;
+  expect(l, no_tx, {"right camera info (/stereo/right/camera_info) P has no baseline"});
+  // An empty D is no distortion, whatever the model (uncalibrated drivers send that).
+  sensor_msgs::CameraInfo empty_d = l;
+  empty_d.D.clear();
+  empty_d.distortion_model = "";
+  EXPECT_NO_THROW(ToStereoGeometry(empty_d, r));
+}
+
+// A raw camera's info (as aar_sim raw_images and camera_calibration give it: K, D, R of the raw
+// camera, P the rectified projection): the geometry is P's, as image_geometry reads it, and the
+// distortion is described for the warning.
+TEST(Conversions, RawCameraInfosGiveTheRectifiedGeometry) {
+  auto [l, r] = Infos();
+  const double f = l.P[0];
+  for (auto* info : {&l, &r}) {
+    info->D = {-0.26, 0.09, 0.0006, -0.0004, -0.012};
+    info->K = {f * 1.02, 0, 641.0, 0, f * 1.02, 478.0, 0, 0, 1};
+    info->R = {0.99999, -0.0017, 0.0052, 0.0017, 0.99999, 0.0026, -0.0052, -0.0026, 0.99998};
+  }
+  r.header.frame_id = "stereo_right_optical";  // frames differ: not an image_geometry abort
+  const StereoGeometry g = ToStereoGeometry(l, r);
+  EXPECT_EQ(g.fx, f);
+  EXPECT_EQ(g.cx_left, 639.5);
+  EXPECT_EQ(g.cy, 479.5);
+  EXPECT_NEAR(g.baseline(), 0.5, 1e-12);
+  EXPECT_EQ(DescribeDistortion(l), "plumb_bob D = [-0.26, 0.09, 0.0006, -0.0004, -0.012]");
+  const auto [l0, r0] = Infos();
+  EXPECT_EQ(DescribeDistortion(l0), "");
+  EXPECT_EQ(DistortionLength("equidistant"), 4);
 }
 
 TEST(Conversions, PointCloudFieldsAndShape) {

@@ -4,6 +4,8 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <tuple>
+#include <vector>
 
 #include <aar_eval/ros/eval_node.h>
 #include <aar_occlusion/ros/occlusion_node.h>
@@ -133,6 +135,57 @@ TEST(Config, StereoAndEvalLoadAsTheLaunchFilesGiveThem) {
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("/stereo/aar_stereo/block_sise"), std::string::npos)
         << e.what();
+  }
+}
+
+// config/sim.yaml's raw cameras: off by default (rectified pinhole images), and its lens values
+// are the ones the code documents (aar_sim::DefaultRawCameraOptions). A lens list of the wrong
+// length or type stops the simulator, naming the key.
+TEST(Config, SimRawCamerasOffByDefaultLensesAsDocumented) {
+  try {
+    const auto sim = aar_sim::LoadSimNodeOptions(ros::NodeHandle("/sim"));
+    const aar_sim::RawCameraOptions defaults = aar_sim::DefaultRawCameraOptions();
+    EXPECT_FALSE(sim.world.raw.enabled);
+    EXPECT_EQ(sim.world.raw.left.distortion, defaults.left.distortion);
+    EXPECT_EQ(sim.world.raw.right.distortion, defaults.right.distortion);
+    EXPECT_TRUE(sim.world.raw.left.rotation_deg.isApprox(defaults.left.rotation_deg));
+    EXPECT_TRUE(sim.world.raw.right.rotation_deg.isApprox(defaults.right.rotation_deg));
+  } catch (const std::exception& e) {
+    ADD_FAILURE() << e.what();
+  }
+  ros::NodeHandle raw("/sim_raw_bad");
+  std::string path;
+  ros::NodeHandle("/sim").getParam("flight_path", path);
+  raw.setParam("flight_path", path);
+  raw.setParam("raw_images", true);
+  auto list = [](std::vector<XmlRpc::XmlRpcValue> items) {
+    XmlRpc::XmlRpcValue value;
+    value.setSize(static_cast<int>(items.size()));
+    for (size_t i = 0; i < items.size(); ++i) value[static_cast<int>(i)] = items[i];
+    return value;
+  };
+  for (const auto& [key, value, text] :
+       std::vector<std::tuple<std::string, XmlRpc::XmlRpcValue, std::string>>{
+           {"left_distortion", list({-0.2, 0.1, 0.0}),
+            "/sim_raw_bad/left_distortion must be a list of 5 numbers"},
+           {"right_rotation_deg", list({0.1, 0.2, std::string("x")}),
+            "/sim_raw_bad/right_rotation_deg must be a list of 3 numbers"},
+           {"left_rotation_deg", list({20.0, 0.0, 0.0}), "must stay within 10 deg"}}) {
+    raw.setParam(key, value);
+    try {
+      aar_sim::LoadSimNodeOptions(raw);
+      ADD_FAILURE() << key << " was accepted";
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find(text), std::string::npos) << e.what();
+    }
+    raw.deleteParam(key);
+  }
+  // Integers in a list are numbers too (YAML [0, 0, 0]).
+  raw.setParam("left_rotation_deg", list({0, 1, 0}));
+  try {
+    EXPECT_NEAR(aar_sim::LoadSimNodeOptions(raw).world.raw.left.rotation_deg.y(), 1.0, 1e-12);
+  } catch (const std::exception& e) {
+    ADD_FAILURE() << e.what();
   }
 }
 

@@ -192,6 +192,35 @@ TEST(BadInput, ErrorsAreNamedFramesSkippedNodeAlive) {
   EXPECT_TRUE(f.ErrorLogged("no valid projection matrix P", 7.0));
   EXPECT_EQ(f.points.size(), 0u) << "a bad frame produced a cloud";
 
+  // Inconsistent camera infos (issue 15): each named with its problem and its topic.
+  Pair short_d = GoodPair(ros::Time(t += 1));
+  short_d.right_info.distortion_model = "plumb_bob";
+  short_d.right_info.D = {-0.2, 0.1, 0.0};
+  f.Publish(short_d);
+  EXPECT_TRUE(
+      f.ErrorLogged("right camera info (/bad/right/camera_info) has 3 distortion "
+                    "coefficients D; model plumb_bob takes 5",
+                    7.0));
+  Pair zero_f = GoodPair(ros::Time(t += 1));
+  zero_f.right_info.P[5] = 0.0;
+  f.Publish(zero_f);
+  EXPECT_TRUE(f.ErrorLogged(
+      "right camera info (/bad/right/camera_info) has no valid projection matrix P (zero focal "
+      "length?",
+      7.0));
+  Pair info_sizes = GoodPair(ros::Time(t += 1));
+  info_sizes.right_info.width = 80;
+  f.Publish(info_sizes);
+  EXPECT_TRUE(
+      f.ErrorLogged("camera infos differ in size: left (/bad/left/camera_info) 160x120, "
+                    "right (/bad/right/camera_info) 80x120",
+                    7.0));
+  Pair no_baseline = GoodPair(ros::Time(t += 1));
+  no_baseline.right_info.P[3] = 0.0;
+  f.Publish(no_baseline);
+  EXPECT_TRUE(f.ErrorLogged("right camera info (/bad/right/camera_info) P has no baseline", 7.0));
+  EXPECT_EQ(f.points.size(), 0u) << "a bad camera info produced a cloud";
+
   // Stamps that never match: right half a second behind, for 7 s.
   for (int i = 0; i < 35; ++i) {
     Pair apart = GoodPair(ros::Time(t += 1));
@@ -210,6 +239,41 @@ TEST(BadInput, ErrorsAreNamedFramesSkippedNodeAlive) {
   ASSERT_EQ(f.points.size(), 1u) << "no cloud for a good frame after the bad ones";
   std::lock_guard<std::mutex> lock(f.points.mutex);
   EXPECT_GT(f.points.by_stamp.at(good)->width, 100u);
+}
+
+// Distorted images fed as image_rect (a driver's image_raw remapped, no rectification): a camera
+// info with a non-zero D earns a warning naming the topic and the coefficients; the pair is still
+// matched. Behind a rectify step (~rectified_upstream true, as pipeline.launch rectify:=true sets
+// it) the same infos are expected and earn none.
+TEST(BadInput, DistortedCameraInfosOnImageRectAreWarnedAbout) {
+  BadInputFixture f("/distorted", 4), upstream("/upstream", 4);  // 4: WARN and above
+  auto connected = [](BadInputFixture& x) {
+    return x.left.getNumSubscribers() > 0 && x.right.getNumSubscribers() > 0 &&
+           x.left_info.getNumSubscribers() > 0 && x.right_info.getNumSubscribers() > 0 &&
+           x.errors.Connected();
+  };
+  aar_testing::WaitFor([&] { return connected(f) && connected(upstream); }, 20.0);
+  ASSERT_TRUE(connected(f) && connected(upstream)) << "aar_stereo never subscribed";
+  ros::WallDuration(0.5).sleep();
+  for (BadInputFixture* x : {&f, &upstream}) {
+    Pair distorted = GoodPair(ros::Time(200.0));
+    for (auto* info : {&distorted.left_info, &distorted.right_info}) {
+      info->distortion_model = "plumb_bob";
+      info->D = {-0.26, 0.09, 0.0006, -0.0004, -0.012};
+    }
+    x->Publish(distorted);
+    aar_testing::WaitFor([&] { return x->points.size() > 0; }, 5.0);
+    EXPECT_EQ(x->points.size(), 1u) << "a pair with distorted infos was not matched";
+  }
+  const std::string warning = f.errors.WaitMessage("camera infos with distortion", 5.0);
+  EXPECT_NE(warning.find("/distorted/left/camera_info plumb_bob D = [-0.26, 0.09, 0.0006, "
+                         "-0.0004, -0.012]"),
+            std::string::npos)
+      << warning;
+  EXPECT_NE(warning.find("/distorted/right/camera_info"), std::string::npos) << warning;
+  EXPECT_NE(warning.find("are raw images fed as image_rect?"), std::string::npos) << warning;
+  EXPECT_FALSE(upstream.errors.Wait("camera infos with distortion", 1.0))
+      << "warned although rectified upstream";
 }
 
 // Settings dynamic_reconfigure would quietly clamp or replace (matcher 5 became SGBM, decimation 7

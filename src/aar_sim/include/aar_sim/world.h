@@ -1,12 +1,14 @@
 #pragma once
 
 #include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include <aar_geometry/robot_model.h>
 
 #include "aar_sim/flight_path.h"
+#include "aar_sim/raw_camera.h"
 #include "aar_sim/renderer.h"
 
 namespace aar_sim {
@@ -18,6 +20,7 @@ struct WorldOptions {
   StereoRig rig;             // its intrinsics are the renderer's
   RendererOptions renderer;  // intrinsics are taken from the rig
   bool boom_visible = true;
+  RawCameraOptions raw;  // enabled: also the raw (distorted, unrectified) images
 };
 
 // The shipped world: receiver.obj and boom.urdf from `models_dir` (aar_description's models/,
@@ -27,7 +30,9 @@ WorldOptions DefaultWorldOptions(const std::string& models_dir);
 
 // One rendered stereo pair with the truth that produced it.
 struct StereoFrame {
-  RenderedView left, right;
+  RenderedView left, right;  // the ideal rectified pinhole views (the rig's size)
+  // raw.enabled: what the real cameras would deliver (RawCamera::Distort of the views above)
+  Image<uint8_t> left_raw, right_raw;
   Eigen::Isometry3d T_tanker_receiver = Eigen::Isometry3d::Identity();
   BoomPose boom;
   std::map<std::string, Eigen::Isometry3d> T_tanker_links;  // boom links
@@ -46,6 +51,9 @@ class World {
   const aar_geometry::TriangleMesh& receiver_mesh() const { return receiver_; }
   const aar_geometry::RobotModel& boom_model() const { return boom_; }
   Renderer& renderer() { return renderer_; }
+  // The cameras' calibrations (null unless options.raw.enabled).
+  const RawCamera* raw_left() const { return raw_left_.get(); }
+  const RawCamera* raw_right() const { return raw_right_.get(); }
 
  private:
   struct BoomElement {
@@ -56,6 +64,9 @@ class World {
   WorldOptions options_;
   aar_geometry::TriangleMesh receiver_;
   aar_geometry::RobotModel boom_;
+  // Before renderer_: raw cameras decide how far beyond the rig's view it renders.
+  std::unique_ptr<RawCamera> raw_left_, raw_right_;
+  Eigen::Vector2i view_margin_ = Eigen::Vector2i::Zero();  // [px] each side
   Renderer renderer_;
   int receiver_handle_ = -1;
   std::vector<BoomElement> boom_elements_;

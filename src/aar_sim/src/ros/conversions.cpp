@@ -32,6 +32,18 @@ sensor_msgs::CameraInfoPtr ToCameraInfoMsg(const CameraIntrinsics& k, double Tx,
   return msg;
 }
 
+sensor_msgs::CameraInfoPtr ToRawCameraInfoMsg(const RawCamera& camera,
+                                              const CameraIntrinsics& rectified, double Tx,
+                                              const std_msgs::Header& header) {
+  auto msg = ToCameraInfoMsg(rectified, Tx, header);
+  const CameraIntrinsics& k = camera.K();
+  msg->D.assign(camera.D().begin(), camera.D().end());
+  msg->K = {k.fx, 0.0, k.cx, 0.0, k.fy, k.cy, 0.0, 0.0, 1.0};
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) msg->R[size_t(3 * i + j)] = camera.R_rect_raw()(i, j);
+  return msg;
+}
+
 geometry_msgs::TransformStamped ToTransformMsg(const Eigen::Isometry3d& T, const ros::Time& stamp,
                                                const std::string& parent,
                                                const std::string& child) {

@@ -31,8 +31,10 @@ SimNode::SimNode(ros::NodeHandle nh, const SimNodeOptions& options)
     throw std::invalid_argument(
         "stamp_offset + path start must be positive: stamps of 0 or less are not valid");
   }
-  left_pub_ = it_.advertiseCamera("stereo/left/image_rect", 2);
-  right_pub_ = it_.advertiseCamera("stereo/right/image_rect", 2);
+  // Raw cameras publish where a camera driver does (image_proc's rectify nodelets take them).
+  const std::string image = options_.world.raw.enabled ? "image_raw" : "image_rect";
+  left_pub_ = it_.advertiseCamera("stereo/left/" + image, 2);
+  right_pub_ = it_.advertiseCamera("stereo/right/" + image, 2);
   if (options_.publish_labels) {
     left_label_pub_ = it_.advertise("stereo/left/label", 2);
     right_label_pub_ = it_.advertise("stereo/right/label", 2);
@@ -60,7 +62,13 @@ SimNode::SimNode(ros::NodeHandle nh, const SimNodeOptions& options)
               << world_->renderer().gl_renderer() << "; "
               << (options_.lockstep ? "lockstep"
                                     : "free-running at " + std::to_string(options_.rate) + " Hz")
-              << (options_.world.boom_visible ? "" : "; boom hidden"));
+              << (options_.world.boom_visible ? "" : "; boom hidden")
+              << (world_->raw_left()
+                      ? "; raw distorted images on " + left_pub_.getTopic() + ", " +
+                            right_pub_.getTopic() + " (" +
+                            std::to_string(100.0 * world_->raw_left()->outside_fraction()) +
+                            " % of raw pixels beyond the rendered view)"
+                      : ""));
 }
 
 SimNode::~SimNode() {
@@ -172,9 +180,16 @@ void SimNode::PublishFrame(int index, const FlightPathRow& row, const BoomPose& 
   // (hence stereo_image_proc) asserts the frames are equal. The right camera's own pose is the
   // tf frame stereo_right_optical.
   left.frame_id = right.frame_id = "stereo_left_optical";
-  left_pub_.publish(ToImageMsg(frame.left.image, left), ToCameraInfoMsg(k, 0.0, left));
-  right_pub_.publish(ToImageMsg(frame.right.image, right),
-                     ToCameraInfoMsg(k, -k.fx * options_.world.rig.baseline, right));
+  const double Tx = -k.fx * options_.world.rig.baseline;
+  if (const RawCamera* raw_left = world_->raw_left()) {
+    left_pub_.publish(ToImageMsg(frame.left_raw, left),
+                      ToRawCameraInfoMsg(*raw_left, k, 0.0, left));
+    right_pub_.publish(ToImageMsg(frame.right_raw, right),
+                       ToRawCameraInfoMsg(*world_->raw_right(), k, Tx, right));
+  } else {
+    left_pub_.publish(ToImageMsg(frame.left.image, left), ToCameraInfoMsg(k, 0.0, left));
+    right_pub_.publish(ToImageMsg(frame.right.image, right), ToCameraInfoMsg(k, Tx, right));
+  }
   if (options_.publish_labels) {
     left_label_pub_.publish(ToImageMsg(frame.left.label, left));
     right_label_pub_.publish(ToImageMsg(frame.right.label, right));

@@ -1,11 +1,56 @@
 // The node's parameters, apart from the node so that they can be read without a master
 // (ParamReader over a parameter tree: the parameter fuzz target).
+#include <array>
+#include <cmath>
+#include <string>
+
 #include <aar_ros_common/param_reader.h>
 #include <ros/package.h>
 
 #include "aar_sim/ros/sim_node.h"
 
 namespace aar_sim {
+namespace {
+
+// A list of `N` numbers under ~name (YAML [a, b, ...]), or `fallback` when unset.
+template <size_t N>
+std::array<double, N> GetNumbers(aar_ros_common::ParamReader& params, const std::string& name,
+                                 const std::array<double, N>& fallback) {
+  params.Allow(name);
+  XmlRpc::XmlRpcValue value;
+  if (!params.GetValue(name, value)) return fallback;
+  const std::string rule = "must be a list of " + std::to_string(N) + " numbers";
+  params.Check(value.getType() == XmlRpc::XmlRpcValue::TypeArray && value.size() == int(N), name,
+               rule);
+  std::array<double, N> out{};
+  for (int i = 0; i < int(N); ++i) {
+    XmlRpc::XmlRpcValue& x = value[i];
+    if (x.getType() == XmlRpc::XmlRpcValue::TypeDouble) {
+      out[size_t(i)] = static_cast<double>(x);
+    } else if (x.getType() == XmlRpc::XmlRpcValue::TypeInt) {
+      out[size_t(i)] = static_cast<int>(x);
+    } else {
+      params.Check(false, name, rule);
+    }
+    params.Check(std::isfinite(out[size_t(i)]), name, "must hold finite numbers");
+  }
+  return out;
+}
+
+LensOptions GetLens(aar_ros_common::ParamReader& params, const std::string& side,
+                    const LensOptions& fallback) {
+  LensOptions lens;
+  lens.distortion = GetNumbers(params, side + "_distortion", fallback.distortion);
+  const std::array<double, 3> r = GetNumbers<3>(
+      params, side + "_rotation_deg",
+      {fallback.rotation_deg.x(), fallback.rotation_deg.y(), fallback.rotation_deg.z()});
+  lens.rotation_deg = {r[0], r[1], r[2]};
+  params.Check(lens.rotation_deg.norm() <= 10.0, side + "_rotation_deg",
+               "must stay within 10 deg of the rectified camera (a small mounting error)");
+  return lens;
+}
+
+}  // namespace
 
 SimNodeOptions LoadSimNodeOptions(const ros::NodeHandle& nh) {
   aar_ros_common::ParamReader params(nh);
@@ -35,6 +80,12 @@ SimNodeOptions LoadSimNodeOptions(aar_ros_common::ParamReader& params) {
   params.Check(baseline > 0.0, "baseline", "must be positive");
   o.world.rig = MakeStereoRig(CameraIntrinsics::FromHorizontalFov(width, height, hfov), baseline,
                               mount, yaw, pitch);
+
+  // Raw cameras: distorted, unrectified images with their calibration (off: rectified pinhole).
+  const RawCameraOptions raw_defaults = DefaultRawCameraOptions();
+  o.world.raw.enabled = params.Get("raw_images", false);
+  o.world.raw.left = GetLens(params, "left", raw_defaults.left);
+  o.world.raw.right = GetLens(params, "right", raw_defaults.right);
 
   o.world.renderer.noise_stddev = params.Get("noise_stddev", 0.0);
   o.world.renderer.noise_seed = static_cast<uint64_t>(params.Get("noise_seed", 1));

@@ -1,48 +1,96 @@
 #include "aar_stereo/ros/conversions.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <sstream>
 #include <stdexcept>
 
+#include <image_geometry/stereo_camera_model.h>
+#include <sensor_msgs/distortion_models.h>
 #include <sensor_msgs/image_encodings.h>
 #include <sensor_msgs/point_cloud2_iterator.h>
 #include <boost/make_shared.hpp>
 
 namespace aar_stereo {
 
+int DistortionLength(const std::string& model) {
+  if (model == sensor_msgs::distortion_models::PLUMB_BOB) return 5;
+  if (model == sensor_msgs::distortion_models::RATIONAL_POLYNOMIAL) return 8;
+  if (model == sensor_msgs::distortion_models::EQUIDISTANT) return 4;
+  return -1;
+}
+
+std::string DescribeDistortion(const sensor_msgs::CameraInfo& info) {
+  if (std::all_of(info.D.begin(), info.D.end(), [](double d) { return d == 0.0; })) return "";
+  std::ostringstream s;
+  s << info.distortion_model << " D = [";
+  for (size_t i = 0; i < info.D.size(); ++i) s << (i ? ", " : "") << info.D[i];
+  s << "]";
+  return s.str();
+}
+
 StereoGeometry ToStereoGeometry(const sensor_msgs::CameraInfo& left,
-                                const sensor_msgs::CameraInfo& right) {
+                                const sensor_msgs::CameraInfo& right, const std::string& left_topic,
+                                const std::string& right_topic) {
+  // image_geometry asserts (aborts) or divides by zero on what is checked here: checked first.
   for (const auto* info : {&left, &right}) {
-    const char* which = info == &left ? "left" : "right";
+    const std::string which = (info == &left ? "left" : "right") + std::string(" camera info (") +
+                              (info == &left ? left_topic : right_topic) + ")";
     for (double p : info->P) {
-      if (!std::isfinite(p))
-        throw std::invalid_argument(std::string(which) + " camera info P is not finite");
+      if (!std::isfinite(p)) throw std::invalid_argument(which + " P is not finite");
     }
     if (info->P[0] <= 0.0 || info->P[5] <= 0.0 || info->P[10] != 1.0) {
       throw std::invalid_argument(
-          std::string(which) +
-          " camera info has no valid projection matrix P (fx, fy must be positive, "
+          which +
+          " has no valid projection matrix P (zero focal length? fx, fy must be positive, "
           "P[10] = 1): is the camera rectified and calibrated?");
+    }
+    // An empty D means no distortion whatever the model says (an uncalibrated driver's info).
+    const int expected = DistortionLength(info->distortion_model);
+    if (!info->D.empty() && expected < 0) {
+      throw std::invalid_argument(which + " has distortion model '" + info->distortion_model +
+                                  "' with " + std::to_string(info->D.size()) +
+                                  " coefficients: image_geometry knows plumb_bob, "
+                                  "rational_polynomial and equidistant");
+    }
+    if (!info->D.empty() && static_cast<int>(info->D.size()) != expected) {
+      throw std::invalid_argument(which + " has " + std::to_string(info->D.size()) +
+                                  " distortion coefficients D; model " + info->distortion_model +
+                                  " takes " + std::to_string(expected));
     }
   }
   if (left.width != right.width || left.height != right.height) {
-    throw std::invalid_argument("camera infos differ in size: left " + std::to_string(left.width) +
-                                "x" + std::to_string(left.height) + ", right " +
-                                std::to_string(right.width) + "x" + std::to_string(right.height));
+    throw std::invalid_argument("camera infos differ in size: left (" + left_topic + ") " +
+                                std::to_string(left.width) + "x" + std::to_string(left.height) +
+                                ", right (" + right_topic + ") " + std::to_string(right.width) +
+                                "x" + std::to_string(right.height));
   }
   if (left.P[0] != right.P[0] || left.P[5] != right.P[5] || left.P[6] != right.P[6]) {
-    throw std::invalid_argument(
-        "left and right camera infos differ in fx, fy or cy: not a rectified pair");
+    throw std::invalid_argument("left (" + left_topic + ") and right (" + right_topic +
+                                ") camera infos differ in fx, fy or cy: not a rectified pair");
   }
+  if (right.P[3] == 0.0) {
+    throw std::invalid_argument("right camera info (" + right_topic +
+                                ") P has no baseline (P[3] = Tx = 0; it must be -fx * baseline): "
+                                "is it the left camera's info, or an uncalibrated pair?");
+  }
+  // image_geometry asserts that both infos name one frame (ROS's stereo convention, which the
+  // right camera's P follows); only the geometry is taken here, so the frames are made equal.
+  sensor_msgs::CameraInfo right_in_left = right;
+  right_in_left.header.frame_id = left.header.frame_id;
+  image_geometry::StereoCameraModel model;
+  model.fromCameraInfo(left, right_in_left);
+  const image_geometry::PinholeCameraModel &l = model.left(), &r = model.right();
   StereoGeometry g;
   g.width = static_cast<int>(left.width);
   g.height = static_cast<int>(left.height);
-  g.fx = left.P[0];
-  g.fy = left.P[5];
-  g.cx_left = left.P[2];
-  g.cy = left.P[6];
-  g.cx_right = right.P[2];
-  g.Tx = right.P[3];
+  g.fx = l.fx();
+  g.fy = l.fy();
+  g.cx_left = l.cx();
+  g.cy = l.cy();
+  g.cx_right = r.cx();
+  g.Tx = r.Tx();
   g.Validate();
   return g;
 }

@@ -182,7 +182,9 @@ void StereoNode::OnFrame(const Image::ConstPtr& left, const Info::ConstPtr& left
     }
   }
   try {
-    const StereoGeometry geometry = ToStereoGeometry(*left_info, *right_info);
+    const StereoGeometry geometry = ToStereoGeometry(
+        *left_info, *right_info, left_info_sub_.getTopic(), right_info_sub_.getTopic());
+    if (!options_.rectified_upstream) WarnIfDistorted(*left_info, *right_info);
     const cv::Mat l = ToMono8(*left, "left"), r = ToMono8(*right, "right");
     std::lock_guard<std::mutex> lock(mutex_);
     if (!processor_) return;
@@ -232,6 +234,25 @@ void StereoNode::OnFrame(const Image::ConstPtr& left, const Info::ConstPtr& left
     if (errors_.ShouldLog(e.what()))
       ROS_ERROR_STREAM("stereo: frame " << left->header.stamp << " skipped: " << e.what());
   }
+}
+
+// image_rect with a distorted camera info and nothing rectifying in front: the images are most
+// likely raw (a driver's image_raw remapped), and matching them gives wrong depths at the edges.
+// The pair is still processed (a calibration may carry D for rectified images); the warning,
+// throttled, names the topics and the coefficients.
+void StereoNode::WarnIfDistorted(const Info& left, const Info& right) {
+  const std::string l = DescribeDistortion(left), r = DescribeDistortion(right);
+  if (l.empty() && r.empty()) return;
+  ++distorted_;
+  ROS_WARN_STREAM_THROTTLE(
+      10.0, "stereo: camera infos with distortion on image_rect input: "
+                << (l.empty() ? "" : left_info_sub_.getTopic() + " " + l)
+                << (l.empty() || r.empty() ? "" : "; ")
+                << (r.empty() ? "" : right_info_sub_.getTopic() + " " + r)
+                << ". aar_stereo needs rectified images: are raw images fed as image_rect? Put "
+                   "image_proc's rectify in front (pipeline.launch rectify:=true) and set "
+                   "~rectified_upstream true; "
+                << distorted_ << " such pairs so far");
 }
 
 std::optional<cv::Rect> StereoNode::Roi(const std_msgs::Header& header,
@@ -307,6 +328,9 @@ void StereoNode::Diagnose(diagnostic_updater::DiagnosticStatusWrapper& status) {
   status.add("frames dropped as stale (max_frame_age)", static_cast<uint64_t>(stale_));
   status.add("pairs dropped as out of order", order_.dropped());
   status.add("pairs dropped, halves apart (max_pair_skew)", static_cast<uint64_t>(skewed_));
+  if (!options_.rectified_upstream)
+    status.add("pairs with distorted camera infos (unrectified?)",
+               static_cast<uint64_t>(distorted_));
   status.add("points (last frame)", last_points_);
   status.add("matching [ms]", last_timings_.matching_ms);
   status.add("reprojection [ms]", last_timings_.reprojection_ms);

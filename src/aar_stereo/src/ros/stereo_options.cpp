@@ -64,6 +64,7 @@ StereoNodeOptions LoadStereoNodeOptions(aar_ros_common::ParamReader& params) {
   o.opencv_threads = params.Get("opencv_threads", o.opencv_threads);
   o.max_frame_age = params.Get("max_frame_age", o.max_frame_age);
   params.Check(o.max_frame_age >= 0.0, "max_frame_age", "must be >= 0 [s] (0: off)");
+  o.rectified_upstream = params.Get("rectified_upstream", o.rectified_upstream);
   o.queue_size = params.Get("queue_size", o.queue_size);
   params.Check(o.queue_size >= 1, "queue_size", "must be at least 1");
   StereoRoiOptions& roi = o.roi;

@@ -1,5 +1,7 @@
 #pragma once
 
+#include <string>
+
 #include <sensor_msgs/CameraInfo.h>
 #include <sensor_msgs/Image.h>
 #include <sensor_msgs/PointCloud2.h>
@@ -9,10 +11,23 @@
 
 namespace aar_stereo {
 
-// The pair's geometry from its camera infos (P matrices). Throws std::invalid_argument naming the
-// problem: a zero or non-finite P, sizes that differ, focal lengths that differ.
+// The pair's rectified geometry from its camera infos, through image_geometry's
+// StereoCameraModel (P, with binning and region of interest applied as image_geometry does).
+// Throws std::invalid_argument naming the problem and the topic (`left_topic`, `right_topic`): a
+// zero or non-finite P, a D whose length does not fit the distortion model, sizes that differ,
+// focal lengths that differ, a right P without a baseline.
 StereoGeometry ToStereoGeometry(const sensor_msgs::CameraInfo& left,
-                                const sensor_msgs::CameraInfo& right);
+                                const sensor_msgs::CameraInfo& right,
+                                const std::string& left_topic = "left",
+                                const std::string& right_topic = "right");
+
+// The D length a distortion model takes (plumb_bob 5, rational_polynomial 8, equidistant 4), or
+// -1 for a model image_geometry does not know.
+int DistortionLength(const std::string& model);
+
+// "" when the camera info has no distortion (D all zero or empty), else its D, e.g.
+// "plumb_bob D = [-0.26, 0.09, 0.0006, -0.0004, -0.012]".
+std::string DescribeDistortion(const sensor_msgs::CameraInfo& info);
 
 // A view of a mono8 image (no copy). Throws std::invalid_argument for another encoding or a
 // malformed step/size.

@@ -52,6 +52,10 @@ struct StereoNodeOptions {
   // [s] approximate sync: a pair whose four stamps (images, camera infos) span more than this
   // is dropped, named: halves taken this far apart (one camera lagging) give a wrong cloud.
   double max_pair_skew = 0.01;
+  // true: image_rect is rectified upstream (image_proc) from raw images whose camera infos
+  // (D, R) describe the raw cameras; false: a non-zero D is warned about (distorted images fed as
+  // image_rect without rectification).
+  bool rectified_upstream = false;
   int queue_size = 5;  // synchroniser queue per input
   // OpenCV's worker threads (cv::setNumThreads, process-wide); -1: OpenCV's default (all cores).
   int opencv_threads = -1;
@@ -95,6 +99,7 @@ class StereoNode {
   void OnFrame(const Image::ConstPtr& left, const Info::ConstPtr& left_info,
                const Image::ConstPtr& right, const Info::ConstPtr& right_info);
   void OnReconfigure(StereoConfig& config, uint32_t level);
+  void WarnIfDistorted(const Info& left, const Info& right);
   void CheckInputs(const ros::WallTimerEvent&);
   void Diagnose(diagnostic_updater::DiagnosticStatusWrapper& status);
   // The region of interest for a frame, or none (whole image) with `why` saying why.
@@ -124,7 +129,8 @@ class StereoNode {
 
   diagnostic_updater::Updater diagnostics_;
   std::atomic<uint64_t> frames_{0}, skipped_{0}, stale_{0}, skewed_{0};
-  aar_ros_common::StampOrder order_;  // pairs are taken in stamp order
+  std::atomic<uint64_t> distorted_{0};  // pairs whose camera infos had a non-zero D
+  aar_ros_common::StampOrder order_;    // pairs are taken in stamp order
   std::mutex stats_mutex_;
   StereoTimings last_timings_;
   size_t last_points_ = 0;

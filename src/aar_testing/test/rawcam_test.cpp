@@ -1,0 +1,152 @@
+// Raw cameras (issue 15): the simulator's distorted, slightly rotated cameras (config/sim.yaml
+// raw_images) through image_proc's rectify nodelets (launch/pipeline.launch rectify:=true) give
+// pose errors near contact within a stated bound of the ideal pinhole cameras; the same raw
+// images fed to aar_stereo as image_rect without rectification earn its warning and wrong poses.
+// Each run is launch/pipeline.launch on a ROS master of its own (as full_graph_test), experiment
+// dynamic, 8 frames from path time 47 s (36.9 to 36.5 m, region C), in lockstep.
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "aar_testing/paths.h"
+
+namespace {
+
+const std::string kRoot = aar_testing::WorkspaceRoot();
+constexpr int kFrames = 8;
+constexpr double kStart = 47.0;  // [s] path time
+
+int FreePort() {  // scripts/ros-port: a free port for a master of our own
+  FILE* pipe = popen((kRoot + "/scripts/ros-port").c_str(), "r");
+  int port = 0;
+  if (pipe == nullptr || std::fscanf(pipe, "%d", &port) != 1) port = 0;
+  if (pipe != nullptr) pclose(pipe);
+  return port;
+}
+
+struct FrameError {
+  double t = 0.0;  // [s] path time
+  bool estimated = false;
+  Eigen::Vector3d position_m = Eigen::Vector3d::Zero();  // along the true receiver axes
+  Eigen::Vector3d rpy_deg = Eigen::Vector3d::Zero();     // roll, pitch, yaw of the error
+};
+
+struct PipelineRun {
+  std::vector<FrameError> frames;
+  int estimated = 0;
+  double mean_position_m = NAN, mean_rotation_deg = NAN;  // over the estimated frames
+  std::string log;                                        // roslaunch's output
+};
+
+PipelineRun RunPipeline(const std::string& tag, const std::string& args) {
+  const std::string out = ::testing::TempDir() + "/rawcam_" + tag;
+  std::filesystem::remove_all(out);
+  std::filesystem::create_directories(out);
+  const int port = FreePort();
+  EXPECT_GT(port, 0);
+  std::ostringstream command;
+  command << "ROS_MASTER_URI=http://localhost:" << port
+          << " timeout --signal=INT --kill-after=20 240 roslaunch -p " << port << " " << kRoot
+          << "/launch/pipeline.launch experiment:=dynamic frames:=" << kFrames
+          << " start_time:=" << kStart << " " << args << " output_dir:=" << out << " > " << out
+          << ".log 2>&1";
+  EXPECT_EQ(std::system(command.str().c_str()), 0) << command.str() << " (log: " << out << ".log)";
+  PipelineRun run;
+  std::ifstream log(out + ".log");
+  run.log.assign(std::istreambuf_iterator<char>(log), std::istreambuf_iterator<char>());
+  std::ifstream csv(out + "/frames.csv");
+  EXPECT_TRUE(csv.good()) << out << "/frames.csv missing (log: " << out << ".log)";
+  std::string line;
+  std::getline(csv, line);  // t,range_m,region,estimated,x_m,y_m,z_m,roll_deg,pitch_deg,yaw_deg,...
+  double position = 0.0, rotation = 0.0;
+  while (std::getline(csv, line)) {
+    std::vector<std::string> f;
+    std::stringstream s(line);
+    for (std::string cell; std::getline(s, cell, ',');) f.push_back(cell);
+    if (f.size() < 10) continue;
+    FrameError e;
+    e.t = std::stod(f[0]);
+    e.estimated = f[3] == "1";
+    if (e.estimated) {
+      e.position_m = {std::stod(f[4]), std::stod(f[5]), std::stod(f[6])};
+      e.rpy_deg = {std::stod(f[7]), std::stod(f[8]), std::stod(f[9])};
+      ++run.estimated;
+      position += e.position_m.norm();
+      rotation += e.rpy_deg.norm();
+    }
+    run.frames.push_back(e);
+  }
+  if (run.estimated > 0) {
+    run.mean_position_m = position / run.estimated;
+    run.mean_rotation_deg = rotation / run.estimated;
+  }
+  std::printf("[ rawcam ] %s (%s): %d of %zu frames estimated, mean error %.4f m, %.3f deg\n",
+              tag.c_str(), args.c_str(), run.estimated, run.frames.size(), run.mean_position_m,
+              run.mean_rotation_deg);
+  return run;
+}
+
+const char kWarning[] = "stereo: camera infos with distortion on image_rect input";
+
+// Distorted + rectified against pinhole, frame by frame. Measured here (commit of this test,
+// 2 cores shared with other jobs): pinhole mean 0.0219 m, 0.162 deg; rectified 0.0262 m,
+// 0.143 deg; per frame the two errors differ by at most 0.032 m and 0.29 deg (as vectors).
+// With the rectification off (raw_images:=true, rectify false) the errors are metres
+// (mean 8.2 m): the bounds fail.
+TEST(RawCameras, RectifiedRawCamerasMatchPinholeNearContact) {
+  const PipelineRun pinhole = RunPipeline("pinhole", "");
+  const PipelineRun rectified = RunPipeline("rectified", "rectify:=true");
+  ASSERT_EQ(pinhole.frames.size(), size_t(kFrames));
+  ASSERT_EQ(rectified.frames.size(), size_t(kFrames));
+  EXPECT_EQ(pinhole.estimated, kFrames);
+  EXPECT_EQ(rectified.estimated, kFrames);
+  double worst_position = 0.0, worst_rotation = 0.0;
+  for (int i = 0; i < kFrames; ++i) {
+    const FrameError &a = pinhole.frames[size_t(i)], &b = rectified.frames[size_t(i)];
+    ASSERT_NEAR(a.t, b.t, 1e-9);
+    worst_position = std::max(worst_position, (b.position_m - a.position_m).norm());
+    worst_rotation = std::max(worst_rotation, (b.rpy_deg - a.rpy_deg).norm());
+  }
+  std::printf("[ rawcam ] per frame, rectified - pinhole: at most %.4f m, %.3f deg\n",
+              worst_position, worst_rotation);
+  EXPECT_LT(worst_position, 0.045);                                         // [m] measured 0.032
+  EXPECT_LT(worst_rotation, 0.4);                                           // [deg] measured 0.29
+  EXPECT_LT(rectified.mean_position_m, pinhole.mean_position_m + 0.01);     // measured +0.0043 m
+  EXPECT_LT(rectified.mean_rotation_deg, pinhole.mean_rotation_deg + 0.1);  // measured -0.018
+  // The rectify nodelets ran (loaded into the processing manager), and aar_stereo, told the
+  // images are rectified upstream, did not warn about the raw cameras' D.
+  EXPECT_EQ(rectified.log.find(kWarning), std::string::npos) << "warned behind image_proc";
+  EXPECT_NE(rectified.log.find("stereo/left/rectify"), std::string::npos);
+  EXPECT_EQ(rectified.log.find("Failed to load nodelet"), std::string::npos);
+}
+
+// The raw images fed as image_rect, nothing rectifying them (a rig's image_raw remapped): the
+// warning names the topic and the D values, and the poses are wrong by metres (measured mean
+// 8.24 m, 49 deg).
+TEST(RawCameras, UnrectifiedRawCamerasAreWarnedAbout) {
+  const PipelineRun raw = RunPipeline("unrectified", "raw_images:=true");
+  const size_t at = raw.log.find(kWarning);
+  ASSERT_NE(at, std::string::npos) << "no warning for distorted images on image_rect";
+  const std::string warning = raw.log.substr(at, raw.log.find('\n', at) - at);
+  EXPECT_NE(warning.find("/stereo/left/camera_info plumb_bob D = [-0.26, 0.09, 0.0006, -0.0004, "
+                         "-0.012]"),
+            std::string::npos)
+      << warning;
+  EXPECT_NE(warning.find("/stereo/right/camera_info plumb_bob D = [-0.24"), std::string::npos)
+      << warning;
+  EXPECT_GT(raw.mean_position_m, 2.0);  // [m] measured 8.24: matching distorted images is wrong
+}
+
+}  // namespace
