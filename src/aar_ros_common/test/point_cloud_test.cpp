@@ -23,13 +23,14 @@ sensor_msgs::PointCloud2 MakeCloud() {
   msg.width = 3;
   msg.row_step = msg.width * msg.point_step;
   msg.data.resize(msg.row_step * msg.height);
-  sensor_msgs::PointCloud2Iterator<float> x(msg, "x"), y(msg, "y"), z(msg, "z");
-  sensor_msgs::PointCloud2Iterator<uint16_t> label(msg, "label");
-  for (int i = 0; i < 6; ++i, ++x, ++y, ++z, ++label) {
-    *x = i == 4 ? NAN : i;
-    *y = 2.0f * i;
-    *z = 3.0f * i;
-    *label = static_cast<uint16_t>(10 * i);
+  // Written byte-wise: in a 14-byte point the floats are not aligned (that is the point of this
+  // cloud), and sensor_msgs' iterators would store through misaligned pointers.
+  for (int i = 0; i < 6; ++i) {
+    const float xyz[3] = {i == 4 ? NAN : static_cast<float>(i), 2.0f * i, 3.0f * i};
+    const uint16_t label = static_cast<uint16_t>(10 * i);
+    uint8_t* point = msg.data.data() + i * msg.point_step;
+    std::memcpy(point, xyz, sizeof(xyz));
+    std::memcpy(point + 12, &label, sizeof(label));
   }
   return msg;
 }

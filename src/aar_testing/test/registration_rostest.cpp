@@ -89,6 +89,7 @@ sensor_msgs::PointCloud2 Cloud(const std::string& frame, const std::vector<Eigen
                                   sensor_msgs::PointField::FLOAT32);
   }
   modifier.resize(points.size());
+  if (points.empty()) return msg;  // the iterators start at data.front(): undefined when empty
   sensor_msgs::PointCloud2Iterator<float> x(msg, "x"), y(msg, "y");
   for (size_t i = 0; i < points.size(); ++i, ++x, ++y) *x = points[i].x(), *y = points[i].y();
   if (with_z) {
@@ -298,6 +299,7 @@ TEST(TopicReference, PairsByStampUsesClassZeroAndAnswersWithoutReference) {
   modifier.setPointCloud2Fields(
       4, "x", 1, sensor_msgs::PointField::FLOAT32, "y", 1, sensor_msgs::PointField::FLOAT32, "z", 1,
       sensor_msgs::PointField::FLOAT32, "visibility", 1, sensor_msgs::PointField::UINT8);
+  reference.point_step = 16;  // 13 bytes padded: aligned floats for the iterators (UBSan)
   modifier.resize(ref_points.size());
   sensor_msgs::PointCloud2Iterator<float> x(reference, "x");
   sensor_msgs::PointCloud2Iterator<uint8_t> v(reference, "visibility");
