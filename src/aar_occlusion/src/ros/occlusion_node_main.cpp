@@ -17,5 +17,10 @@ int main(int argc, char** argv) {
     return 1;
   }
   ros::waitForShutdown();
+  // Join the callback threads before the node goes: a frame still in flight at shutdown used the
+  // node's members after they were destroyed (ASan, heap-use-after-free, in scripts/test
+  // --sanitize); the spinner, made first, would otherwise stop only after the node is gone.
+  spinner.stop();
+  node.reset();
   return 0;
 }
