@@ -54,14 +54,17 @@ class StrictMap {
     }
     return out;
   }
-  Eigen::Isometry3d Pose(const std::string& key, const std::string& translation_key) {
+  Eigen::Isometry3d Pose(const std::string& key, const std::string& translation_key,
+                         Eigen::Vector3d* rpy_deg = nullptr) {
     StrictMap pose(Get(key), path_, where_.empty() ? key : where_ + "/" + key);
     const Eigen::Vector3d t =
         pose.Has(translation_key) ? pose.Vector(translation_key) : Eigen::Vector3d::Zero();
-    Eigen::Vector3d rpy = pose.Has("rpy_deg") ? pose.Vector("rpy_deg") : Eigen::Vector3d::Zero();
+    const Eigen::Vector3d rpy =
+        pose.Has("rpy_deg") ? pose.Vector("rpy_deg") : Eigen::Vector3d::Zero();
     pose.Finish();
-    rpy *= M_PI / 180.0;
-    return aar_geometry::MakeTransform(t, {rpy.x(), rpy.y(), rpy.z()});
+    if (rpy_deg) *rpy_deg = rpy;
+    using aar_geometry::DegToRad;
+    return aar_geometry::MakeTransform(t, {DegToRad(rpy.x()), DegToRad(rpy.y()), DegToRad(rpy.z())});
   }
   void Finish() const {
     std::string known;
@@ -143,7 +146,7 @@ ReceiverDescription LoadReceiverDescription(const std::string& path) {
   if (keys.Has("max_open_length")) d.max_open_length = keys.Number("max_open_length");
   if (!(d.max_open_length >= 0.0)) throw LoadError(path, "'max_open_length' must be >= 0");
   if ((d.has_contact = keys.Has("contact")))
-    d.T_tanker_receiver_contact = keys.Pose("contact", "position");
+    d.T_tanker_receiver_contact = keys.Pose("contact", "position", &d.contact_rpy_deg);
   keys.Finish();
   return d;
 }
@@ -183,7 +186,10 @@ std::string ReceiverDescriptionYaml(const ReceiverDescription& d, const std::str
   }
   if (d.max_open_length != ReceiverDescription().max_open_length)
     s << "max_open_length: " << d.max_open_length << "\n";
-  if (d.has_contact) s << "contact:\n" << PoseYaml(d.T_tanker_receiver_contact, "position");
+  if (d.has_contact) {
+    s << "contact:\n  position: " << Numbers(d.T_tanker_receiver_contact.translation())
+      << "\n  rpy_deg: " << Numbers(d.contact_rpy_deg) << "\n";
+  }
   return s.str();
 }
 

@@ -22,7 +22,8 @@ namespace {
 using namespace aar_description;
 
 // The default approaches' trim: 2 deg nose up (aar_sim::ApproachOptions::pitch).
-const aar_geometry::RollPitchYaw kTrim{0.0, aar_geometry::DegToRad(-2.0), 0.0};
+const Eigen::Vector3d kTrimDeg(0.0, -2.0, 0.0);
+const aar_geometry::RollPitchYaw kTrim{0.0, aar_geometry::DegToRad(kTrimDeg.y()), 0.0};
 
 // T_tanker_receiver with the receptacle on the nozzle tip of the boom at its static pose and the
 // receiver at the trim attitude, position rounded to 1 cm.
@@ -98,6 +99,7 @@ int main(int argc, char** argv) {
     // The nominal pose the registration node has used since the thesis's experiments were first
     // run (within 1 cm of ContactPose's -34.998, 0, -10.199).
     c12.T_tanker_receiver_contact = aar_geometry::MakeTransform({-35.0, 0.0, -10.19}, kTrim);
+    c12.contact_rpy_deg = kTrimDeg;
     WriteText(dir + "/c12.yaml",
               ReceiverDescriptionYaml(c12,
                                       "C-12 / King Air 200 class receiver; the mesh is in "
@@ -113,6 +115,7 @@ int main(int argc, char** argv) {
     rq4.static_parts = {"left_wing", "right_wing", "nose"};
     rq4.has_contact = true;
     rq4.T_tanker_receiver_contact = ContactPose(nozzle, rq4.receptacle);
+    rq4.contact_rpy_deg = kTrimDeg;
     WriteText(dir + "/rq4.yaml",
               ReceiverDescriptionYaml(
                   rq4,

@@ -18,7 +18,7 @@ RendererOptions WithRigIntrinsics(RendererOptions renderer, const StereoRig& rig
 
 WorldOptions DefaultWorldOptions(const std::string& models_dir) {
   WorldOptions o;
-  o.receiver_mesh = models_dir + "/receiver.obj";
+  o.receiver = aar_description::LoadReceiverDescription(models_dir + "/c12.yaml");
   o.boom_urdf = models_dir + "/boom.urdf";
   o.urdf.package_paths = {models_dir + "/../.."};
   o.rig = MakeStereoRig(CameraIntrinsics::FromHorizontalFov(1280, 960, 60.0), 0.5);
@@ -27,7 +27,7 @@ WorldOptions DefaultWorldOptions(const std::string& models_dir) {
 
 World::World(const WorldOptions& options)
     : options_(options),
-      receiver_(aar_geometry::LoadMesh(options.receiver_mesh)),
+      receiver_(aar_description::LoadReceiverMesh(options.receiver)),
       boom_(aar_geometry::LoadRobotModel(options.boom_urdf, options.urdf)),
       renderer_(WithRigIntrinsics(options.renderer, options.rig)) {
   options_.renderer.intrinsics = options_.rig.intrinsics;

@@ -37,6 +37,7 @@ struct ReceiverDescription {
   double max_open_length = 0.05;
   bool has_contact = false;
   Eigen::Isometry3d T_tanker_receiver_contact = Eigen::Isometry3d::Identity();
+  Eigen::Vector3d contact_rpy_deg = Eigen::Vector3d::Zero();  // its attitude as written [deg]
 };
 
 // A description file (.yaml or .yml), or a bare mesh file: the mesh in the body frame, in

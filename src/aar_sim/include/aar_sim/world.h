@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include <aar_description/receiver_description.h>
 #include <aar_geometry/robot_model.h>
 
 #include "aar_sim/flight_path.h"
@@ -12,7 +13,7 @@
 namespace aar_sim {
 
 struct WorldOptions {
-  std::string receiver_mesh;  // receiver OBJ (parts labelled), receiver frame
+  aar_description::ReceiverDescription receiver;  // mesh, its scale and datum
   std::string boom_urdf;      // boom URDF; its root link is the tanker frame
   aar_geometry::RobotModelOptions urdf;
   StereoRig rig;             // its intrinsics are the renderer's
@@ -20,7 +21,7 @@ struct WorldOptions {
   bool boom_visible = true;
 };
 
-// The shipped world: receiver.obj and boom.urdf from `models_dir` (aar_description's models/,
+// The shipped world: the C-12 (c12.yaml) and boom.urdf from `models_dir` (aar_description's models/,
 // whose parent's parent holds aar_description for package:// look-ups) and the default rig
 // (1280x960, 60 deg, 0.5 m baseline, DESIGN.md mount). Renderer options stay at their defaults.
 WorldOptions DefaultWorldOptions(const std::string& models_dir);
@@ -36,7 +37,8 @@ struct StereoFrame {
 // The virtual world: receiver and boom models, the stereo rig and the renderer.
 class World {
  public:
-  // Throws aar_geometry::LoadError for a model that does not load, RenderError without EGL.
+  // Throws aar_geometry::LoadError for a model that does not load or fails the receiver checks
+  // (aar_description::LoadReceiverMesh), RenderError without EGL.
   explicit World(const WorldOptions& options);
 
   StereoFrame Render(const FlightPathRow& row, const BoomPose& boom, uint64_t frame_index,
