@@ -64,7 +64,8 @@ class StrictMap {
     pose.Finish();
     if (rpy_deg) *rpy_deg = rpy;
     using aar_geometry::DegToRad;
-    return aar_geometry::MakeTransform(t, {DegToRad(rpy.x()), DegToRad(rpy.y()), DegToRad(rpy.z())});
+    return aar_geometry::MakeTransform(t,
+                                       {DegToRad(rpy.x()), DegToRad(rpy.y()), DegToRad(rpy.z())});
   }
   void Finish() const {
     std::string known;

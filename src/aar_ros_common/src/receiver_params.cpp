@@ -7,7 +7,9 @@
 
 namespace aar_ros_common {
 
-std::string DefaultReceiver() { return ros::package::getPath("aar_description") + "/models/c12.yaml"; }
+std::string DefaultReceiver() {
+  return ros::package::getPath("aar_description") + "/models/c12.yaml";
+}
 
 aar_description::ReceiverDescription LoadReceiver(ParamReader& params) {
   const std::string path = params.Get<std::string>("receiver", DefaultReceiver());

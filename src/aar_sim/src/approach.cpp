@@ -7,7 +7,6 @@
 
 #include <aar_geometry/pose.h>
 
-
 namespace aar_sim {
 
 namespace {

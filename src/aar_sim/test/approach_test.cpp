@@ -106,7 +106,8 @@ TEST(Rq4Approach, CommittedFileMatchesTheGeneratorAndEndsInItsReceptacle) {
 
   const auto rq4 = aar_description::LoadReceiverDescription(kModels + "/rq4.yaml");
   const FlightPath path = FlightPath::Load(committed);
-  const auto poses = aar_geometry::ComputeLinkPoses(LoadBoom(), BoomJointPositions(DefaultBoomPose()));
+  const auto poses =
+      aar_geometry::ComputeLinkPoses(LoadBoom(), BoomJointPositions(DefaultBoomPose()));
   const Eigen::Vector3d nozzle = poses.at("nozzle_tip").translation();
   const FlightPathRow contact = path.rows().back();
   EXPECT_LT((contact.T_tanker_receiver() * rq4.receptacle - nozzle).norm(), 0.01);

@@ -13,8 +13,8 @@ namespace aar_ros_common {
 // description, aar_description/receiver_description.h, or a bare mesh; default: aar_description's
 // models/c12.yaml), ~sample_density, ~sample_seed and ~visibility_tolerance, each over
 // `sampling`'s value. Throws std::invalid_argument naming ~receiver and the file's problem.
-aar_description::ReceiverDescription LoadReceiverModel(ParamReader& params,
-                                                       aar_geometry::ReferenceModelOptions& sampling);
+aar_description::ReceiverDescription LoadReceiverModel(
+    ParamReader& params, aar_geometry::ReferenceModelOptions& sampling);
 
 // ~receiver alone, for nodes that need the model's shape but do not sample it.
 aar_description::ReceiverDescription LoadReceiver(ParamReader& params);

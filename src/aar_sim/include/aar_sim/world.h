@@ -14,15 +14,15 @@ namespace aar_sim {
 
 struct WorldOptions {
   aar_description::ReceiverDescription receiver;  // mesh, its scale and datum
-  std::string boom_urdf;      // boom URDF; its root link is the tanker frame
+  std::string boom_urdf;                          // boom URDF; its root link is the tanker frame
   aar_geometry::RobotModelOptions urdf;
   StereoRig rig;             // its intrinsics are the renderer's
   RendererOptions renderer;  // intrinsics are taken from the rig
   bool boom_visible = true;
 };
 
-// The shipped world: the C-12 (c12.yaml) and boom.urdf from `models_dir` (aar_description's models/,
-// whose parent's parent holds aar_description for package:// look-ups) and the default rig
+// The shipped world: the C-12 (c12.yaml) and boom.urdf from `models_dir` (aar_description's
+// models/, whose parent's parent holds aar_description for package:// look-ups) and the default rig
 // (1280x960, 60 deg, 0.5 m baseline, DESIGN.md mount). Renderer options stay at their defaults.
 WorldOptions DefaultWorldOptions(const std::string& models_dir);
 

@@ -27,10 +27,10 @@ namespace aar_occlusion {
 struct OcclusionNodeOptions {
   OcclusionStepOptions step;                            // culling, margins, the dynamic reference
   std::string robot_description = "robot_description";  // parameter holding the boom's URDF
-  aar_description::ReceiverDescription receiver;  // ~receiver (default: the C-12)
-  aar_ros_common::StackFrames frames;  // tanker, receiver (estimate), cameras
-  double tf_timeout = 0.5;             // [s wall] waiting for the cloud's, cameras' and links' tf
-  double estimate_max_age = 1.0;       // [s] an older estimate is not used as the predicted pose
+  aar_description::ReceiverDescription receiver;        // ~receiver (default: the C-12)
+  aar_ros_common::StackFrames frames;                   // tanker, receiver (estimate), cameras
+  double tf_timeout = 0.5;        // [s wall] waiting for the cloud's, cameras' and links' tf
+  double estimate_max_age = 1.0;  // [s] an older estimate is not used as the predicted pose
   // [s wall] how long to wait for the estimate of the previous cloud (tf tanker -> receiver at
   // its stamp): in lockstep it is on its way, and waiting makes runs repeatable.
   double estimate_wait = 0.2;

@@ -28,11 +28,11 @@
 namespace aar_registration {
 
 struct RegistrationNodeOptions {
-  RegistrarOptions registrar;          // reference kind, sampling, nominal pose, ICP, seed policy
+  RegistrarOptions registrar;  // reference kind, sampling, nominal pose, ICP, seed policy
   aar_description::ReceiverDescription receiver;  // ~receiver (default: the C-12)
-  aar_ros_common::StackFrames frames;  // tanker, receiver (estimate), cameras
-  std::string truth_frame = "receiver_truth";  // only for the rviz model at truth
-  double tf_timeout = 0.5;                     // [s wall] waiting for the sensed cloud's transform
+  aar_ros_common::StackFrames frames;             // tanker, receiver (estimate), cameras
+  std::string truth_frame = "receiver_truth";     // only for the rviz model at truth
+  double tf_timeout = 0.5;  // [s wall] waiting for the sensed cloud's transform
   // [s wall] reference: topic: a cloud without a reference of its stamp this long is answered
   // with an invalid estimate.
   double reference_timeout = 2.0;
