@@ -1,8 +1,9 @@
 // The whole graph on the second receiver, the RQ-4 class UAV (aar_description/models/rq4.yaml),
 // flying its own approach (config/flight_paths/approach_rq4.csv): launch/pipeline.launch with
 // receiver:=, on a master of its own. Near contact the dynamic experiment must estimate it as
-// well as it estimates the C-12 there; the simulator alone on the UAV with the processing nodes
-// left on the C-12 (the receiver parameter ignored) is far off.
+// about as well as it estimates the C-12 there; with the processing nodes left on the C-12 (the
+// receiver parameter ignored: what the first test would see then) it is more than a metre off.
+// About 35 s for both.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -27,7 +28,7 @@ int FreePort() {  // scripts/ros-port: a free port for a master of our own
   return port;
 }
 
-struct Run {
+struct UavRun {
   int frames = 0, estimated = 0;
   double mean_position_m = NAN;  // |x, y, z| error over the estimated frames
   double max_range_m = 0.0;
@@ -35,8 +36,8 @@ struct Run {
 
 // `frames` frames of the UAV's approach from path time `start_s` through `experiment`;
 // `processing_receiver` is what the stereo, occlusion and registration nodes are told.
-Run RunUav(const std::string& experiment, int frames, double start_s,
-           const std::string& processing_receiver, const std::string& tag) {
+UavRun RunUav(const std::string& experiment, int frames, double start_s,
+              const std::string& processing_receiver, const std::string& tag) {
   const std::string out = ::testing::TempDir() + "/receiver_graph_" + tag;
   std::filesystem::remove_all(out);
   std::filesystem::create_directories(out);
@@ -51,7 +52,7 @@ Run RunUav(const std::string& experiment, int frames, double start_s,
           << "/config/flight_paths/approach_rq4.csv output_dir:=" << out << " > " << out
           << ".log 2>&1";
   EXPECT_EQ(std::system(command.str().c_str()), 0) << command.str() << " (log: " << out << ".log)";
-  Run run;
+  UavRun run;
   std::ifstream csv(out + "/frames.csv");
   EXPECT_TRUE(csv.good()) << out << "/frames.csv missing (log: " << out << ".log)";
   std::string line;
@@ -79,18 +80,18 @@ Run RunUav(const std::string& experiment, int frames, double start_s,
 
 // Near contact (region C): the UAV's nozzle-in-receptacle pose, every frame estimated.
 TEST(ReceiverGraph, DynamicEstimatesTheUavNearContact) {
-  const Run run = RunUav("dynamic", 10, 45.5, "", "uav");
+  const UavRun run = RunUav("dynamic", 10, 45.5, "", "uav");
   EXPECT_EQ(run.frames, 10);
   EXPECT_EQ(run.estimated, 10);
-  EXPECT_LT(run.max_range_m, 38.0);  // region C
-  EXPECT_LT(run.mean_position_m, BOUND_UAV);
+  EXPECT_LT(run.max_range_m, 38.0);       // region C
+  EXPECT_LT(run.mean_position_m, 0.045);  // measured 0.0396 m (the C-12 there: 0.019 m)
 }
 
 // The same frames with the processing nodes on the C-12's description: registering the UAV's
 // cloud to the wrong model puts the estimate metres off.
 TEST(ReceiverGraph, NodesOnTheC12MeshAreFarOff) {
-  const Run run = RunUav("dynamic", 10, 45.5, aar_testing::ModelsDir() + "/c12.yaml", "c12");
-  EXPECT_GT(run.mean_position_m, BOUND_WRONG);
+  const UavRun run = RunUav("dynamic", 10, 45.5, aar_testing::ModelsDir() + "/c12.yaml", "c12");
+  EXPECT_GT(run.mean_position_m, 1.2);  // measured 1.317 m
 }
 
 }  // namespace
