@@ -73,8 +73,8 @@ UavRun RunUav(const std::string& experiment, int frames, double start_s,
   std::printf(
       "[ receiver ] %s on rq4, nodes on %s: %d frames from %.1f s (range <= %.2f m), "
       "%d estimated, mean position error %.4f m\n",
-      experiment.c_str(), processing_receiver.c_str(), frames, start_s, run.max_range_m,
-      run.estimated, run.mean_position_m);
+      experiment.c_str(), processing_receiver.empty() ? "rq4" : processing_receiver.c_str(), frames,
+      start_s, run.max_range_m, run.estimated, run.mean_position_m);
   return run;
 }
 
