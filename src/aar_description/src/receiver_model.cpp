@@ -103,7 +103,82 @@ void AppendPropeller(TriangleMesh& mesh, const std::string& part, double side) {
   }
 }
 
+// RQ-4 class UAV, in fuselage stations: s [m] aft of the nose tip.
+constexpr double kUavDatumStation = 4.6;  // body origin [m aft of the nose tip]
+double UavX(double station) { return kUavDatumStation - station; }
+
+// Station, half-width, half-height, centre height z, squareness (x as a station).
+const Station kUavNose[] = {{0.00, 0.04, 0.04, -0.05, 2.0},
+                            {0.30, 0.40, 0.38, 0.00, 2.0},
+                            {0.90, 0.66, 0.66, 0.08, 2.2},
+                            {1.80, 0.78, 0.80, 0.12, 2.4}};
+const Station kUavFuselage[] = {{1.80, 0.78, 0.80, 0.12, 2.4},  {3.00, 0.76, 0.78, 0.10, 2.5},
+                                {4.50, 0.68, 0.66, 0.04, 2.5},  {6.00, 0.62, 0.56, 0.00, 2.5},
+                                {8.00, 0.52, 0.46, 0.00, 2.4},  {10.00, 0.40, 0.36, 0.05, 2.2},
+                                {12.00, 0.28, 0.26, 0.12, 2.0}, {13.40, 0.20, 0.20, 0.18, 2.0}};
+
+Ring UavRing(const Station& s, int segments) {
+  return SuperellipseRing(UavX(s.x), 0.0, s.z, s.half_width, s.half_height, s.exponent, segments);
+}
+
 }  // namespace
+
+Eigen::Isometry3d UavStationToBody() {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = Eigen::Vector3d(-1.0, -1.0, 1.0).asDiagonal();  // yaw 180 deg
+  T.translation() = Eigen::Vector3d(kUavDatumStation, 0.0, 0.0);
+  return T;
+}
+
+Eigen::Vector3d UavReceptacleInReceiver() { return {0.4, 0.0, 0.74}; }
+
+TriangleMesh MakeUavMesh(const UavModelOptions& o) {
+  TriangleMesh mesh;
+  std::vector<Ring> rings;
+  for (const auto& s : kUavNose) rings.push_back(UavRing(s, o.ring_segments));
+  AppendLoft(mesh, "nose", rings, true, false);
+  rings.clear();
+  for (const auto& s : kUavFuselage) rings.push_back(UavRing(s, o.ring_segments));
+  AppendLoft(mesh, "fuselage", rings, false, true);
+
+  // Shoulder wing: root section inside the fuselage at y = 0.3 m, chord line 0.2 m above the
+  // reference line, leading edge from station 5.0 (root) to 5.6 (tip), 3 deg dihedral.
+  for (const double side : {1.0, -1.0}) {
+    const double root_y = 0.30, tip_y = 39.9 / 2.0;
+    AppendSurface(
+        mesh, side > 0 ? "left_wing" : "right_wing", o.span_sections, o.chord_points, 0.14,
+        Eigen::Vector3d::UnitZ(),
+        [&](double eta) {
+          const double y = root_y + eta * (tip_y - root_y);
+          return Eigen::Vector3d(UavX(5.0 + 0.6 * eta), side * y,
+                                 0.20 + (y - root_y) * std::tan(DegToRad(3.0)));
+        },
+        [](double eta) { return 2.20 - eta * 1.45; }, false);
+  }
+
+  // Engine nacelle on top of the aft fuselage, intake above the wing's trailing edge.
+  const double profile[][2] = {{7.00, 0.30},  {7.20, 0.42},  {8.00, 0.50}, {10.00, 0.48},
+                               {11.50, 0.38}, {12.40, 0.26}, {12.70, 0.10}};
+  rings.clear();
+  for (const auto& p : profile)
+    rings.push_back(SuperellipseRing(UavX(p[0]), 0.0, 0.80, p[1], p[1], 2.0, o.ring_segments));
+  AppendLoft(mesh, "engine_nacelle", rings, true, true);
+
+  // V-tail: two 3 m surfaces at 50 deg from the horizontal, roots inside the tail cone, chord
+  // 1.9 m at the root and 0.9 m at the tip, the tip's trailing edge at station 14.5 (length).
+  const double dihedral = DegToRad(50.0);
+  for (const double side : {1.0, -1.0}) {
+    const Eigen::Vector3d along(0.0, side * std::cos(dihedral), std::sin(dihedral));
+    const Eigen::Vector3d thickness(0.0, -side * std::sin(dihedral), std::cos(dihedral));
+    AppendSurface(
+        mesh, side > 0 ? "left_tail" : "right_tail", 6, o.chord_points, 0.10, thickness,
+        [&](double eta) -> Eigen::Vector3d {  // not an Eigen expression of a temporary
+          return Eigen::Vector3d(UavX(11.4 + 2.2 * eta), side * 0.05, 0.12) + 3.0 * eta * along;
+        },
+        [](double eta) { return 1.90 - eta * 1.0; }, false);
+  }
+  return mesh;
+}
 
 Eigen::Vector3d ReceptacleInReceiver() { return {-0.3, 0.0, 0.93}; }
 

@@ -35,7 +35,7 @@ size_t Registrar::BuildStaticReference(const aar_geometry::TriangleMesh& receive
     cloud = aar_geometry::Shell(cloud, aar_geometry::VisibilityTester(receiver), eyes,
                                 options_.sampling.visibility_tolerance);
     if (options_.reference == ReferenceKind::kWingsNose)
-      cloud = cloud.Select({"left_wing", "right_wing", "nose"});
+      cloud = cloud.Select(options_.static_parts);
   }
   if (cloud.size() < 100)
     throw std::runtime_error("reference model has only " + std::to_string(cloud.size()) +

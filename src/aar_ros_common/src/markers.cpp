@@ -15,14 +15,22 @@ std_msgs::ColorRGBA Rgba(float r, float g, float b, float a) {
 
 visualization_msgs::Marker MeshMarker(const std::string& frame_id, const std::string& ns,
                                       const std::string& mesh_path,
-                                      const std_msgs::ColorRGBA& colour) {
+                                      const std_msgs::ColorRGBA& colour,
+                                      const Eigen::Isometry3d& T_frame_mesh, double scale) {
   visualization_msgs::Marker m;
   m.header.frame_id = frame_id;
   m.ns = ns;
   m.type = visualization_msgs::Marker::MESH_RESOURCE;
   m.mesh_resource = "file://" + std::filesystem::absolute(mesh_path).string();
-  m.pose.orientation.w = 1.0;
-  m.scale.x = m.scale.y = m.scale.z = 1.0;
+  const Eigen::Quaterniond q(T_frame_mesh.linear());
+  m.pose.position.x = T_frame_mesh.translation().x();
+  m.pose.position.y = T_frame_mesh.translation().y();
+  m.pose.position.z = T_frame_mesh.translation().z();
+  m.pose.orientation.w = q.w();
+  m.pose.orientation.x = q.x();
+  m.pose.orientation.y = q.y();
+  m.pose.orientation.z = q.z();
+  m.scale.x = m.scale.y = m.scale.z = scale;
   m.color = colour;
   m.frame_locked = true;
   return m;

@@ -82,12 +82,14 @@ TEST(ReceiverModel, ReadsOverTheCallersDefaults) {
   aar_geometry::ReferenceModelOptions sampling;
   sampling.points_per_m2 = 127.0;
   sampling.seed = 4;
-  const std::string mesh = LoadReceiverModel(params, sampling);
+  const aar_description::ReceiverDescription receiver = LoadReceiverModel(params, sampling);
   EXPECT_EQ(sampling.points_per_m2, 50.0);
   EXPECT_EQ(sampling.seed, 4u);
   EXPECT_EQ(sampling.visibility_tolerance, 0.02);
-  EXPECT_TRUE(std::filesystem::exists(mesh)) << mesh;
-  EXPECT_NE(mesh.find("aar_description/models/receiver.obj"), std::string::npos) << mesh;
+  EXPECT_TRUE(std::filesystem::exists(receiver.mesh)) << receiver.mesh;
+  EXPECT_EQ(receiver.name, "c12");
+  EXPECT_NE(receiver.path.find("aar_description/models/c12.yaml"), std::string::npos)
+      << receiver.path;
   EXPECT_EQ(ErrorOf([&] { params.RejectUnknown(); }), "");
 }
 

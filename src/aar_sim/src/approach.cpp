@@ -7,11 +7,8 @@
 
 #include <aar_geometry/pose.h>
 
-#include <aar_description/receiver_model.h>
-
 namespace aar_sim {
 
-using aar_description::ReceptacleInReceiver;
 namespace {
 
 using aar_geometry::DegToRad;
@@ -51,7 +48,7 @@ std::vector<FlightPathRow> GenerateApproach(const ApproachOptions& o,
     throw std::invalid_argument("boom_swing must be in [0, 1]");
   const aar_geometry::RollPitchYaw trim{0.0, -DegToRad(o.pitch), 0.0};  // REP-103: nose up < 0
   const Eigen::Matrix3d R_trim = aar_geometry::RotationFromRollPitchYaw(trim);
-  const Eigen::Vector3d contact = contact_receptacle - R_trim * ReceptacleInReceiver();
+  const Eigen::Vector3d contact = contact_receptacle - R_trim * o.receptacle;
   const double contact_range = contact.norm();
   if (o.start_range <= contact_range)
     throw std::invalid_argument("start range inside contact range");

@@ -67,7 +67,7 @@ void CropView(RenderedView& view, const Eigen::Vector2i& margin) {
 
 WorldOptions DefaultWorldOptions(const std::string& models_dir) {
   WorldOptions o;
-  o.receiver_mesh = models_dir + "/receiver.obj";
+  o.receiver = aar_description::LoadReceiverDescription(models_dir + "/c12.yaml");
   o.boom_urdf = models_dir + "/boom.urdf";
   o.urdf.package_paths = {models_dir + "/../.."};
   o.rig = MakeStereoRig(CameraIntrinsics::FromHorizontalFov(1280, 960, 60.0), 0.5);
@@ -76,7 +76,7 @@ WorldOptions DefaultWorldOptions(const std::string& models_dir) {
 
 World::World(const WorldOptions& options)
     : options_(options),
-      receiver_(aar_geometry::LoadMesh(options.receiver_mesh)),
+      receiver_(aar_description::LoadReceiverMesh(options.receiver)),
       boom_(aar_geometry::LoadRobotModel(options.boom_urdf, options.urdf)),
       raw_left_(MakeRaw(options, options.raw.left, "left")),
       raw_right_(MakeRaw(options, options.raw.right, "right")),

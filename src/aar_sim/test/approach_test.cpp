@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include <aar_description/boom_model.h>
+#include <aar_description/receiver_description.h>
 #include <aar_description/receiver_model.h>
 #include <aar_geometry/pose_error.h>
 #include <aar_geometry/robot_model.h>
@@ -89,6 +90,43 @@ TEST(DefaultApproach, ClosesFastFarOutAndSlowlyNear) {
   EXPECT_GT(regions[3], 30);
 }
 
+// The RQ-4 class UAV's default approach: generated for its receptacle, ending with it on the
+// nozzle in region C, through every region.
+TEST(Rq4Approach, CommittedFileMatchesTheGeneratorAndEndsInItsReceptacle) {
+  const std::string committed =
+      ros::package::getPath("aar_sim") + "/../../config/flight_paths/approach_rq4.csv";
+  const std::string csv =
+      std::filesystem::temp_directory_path().string() + "/aar_sim_generated_approach_rq4.csv";
+  const std::string command = std::string(AAR_SIM_GENERATE_APPROACH) + " --receiver " + kModels +
+                              "/rq4.yaml " + kModels + " " + csv + " > /dev/null";
+  ASSERT_EQ(std::system(command.c_str()), 0) << command;
+  EXPECT_EQ(ReadFile(csv), ReadFile(committed))
+      << "approach_rq4.csv is stale: run generate_approach --receiver";
+  std::filesystem::remove(csv);
+
+  const auto rq4 = aar_description::LoadReceiverDescription(kModels + "/rq4.yaml");
+  const FlightPath path = FlightPath::Load(committed);
+  const auto poses =
+      aar_geometry::ComputeLinkPoses(LoadBoom(), BoomJointPositions(DefaultBoomPose()));
+  const Eigen::Vector3d nozzle = poses.at("nozzle_tip").translation();
+  const FlightPathRow contact = path.rows().back();
+  EXPECT_LT((contact.T_tanker_receiver() * rq4.receptacle - nozzle).norm(), 0.01);
+  // The C-12's receptacle would be 0.7 m from the nozzle at the RQ-4's contact pose.
+  EXPECT_GT((contact.T_tanker_receiver() * ReceptacleInReceiver() - nozzle).norm(), 0.5);
+  // Its description's nominal pose is the contact pose, to the 1 cm it is rounded to.
+  EXPECT_LT((rq4.T_tanker_receiver_contact.translation() - contact.position_m).norm(), 0.01);
+  const double contact_range = contact.position_m.norm();
+  EXPECT_GE(contact_range, 32.0);
+  EXPECT_LT(contact_range, 38.0);
+  int regions[4] = {0, 0, 0, 0};
+  for (const auto& row : path.rows())
+    ++regions[static_cast<int>(aar_geometry::RegionOfRange(row.position_m.norm()))];
+  EXPECT_EQ(regions[0], 0);
+  EXPECT_GT(regions[1], 50);
+  EXPECT_GT(regions[2], 50);
+  EXPECT_GT(regions[3], 30);
+}
+
 // The approaches of a suite: reproducible per seed, different between seeds, each flown from
 // 170-175 m through every region to the nozzle in the receptacle, the boom inside its joint
 // limits and back at its static pose by contact.
@@ -109,7 +147,7 @@ TEST(VariedApproach, ReproducibleDifferentAndEndingInContact) {
     EXPECT_GE(start_range, 170.0);
     EXPECT_LE(start_range, 175.0);
     lateral.push_back(rows.front().position_m.y());
-    const Eigen::Vector3d receptacle = rows.back().T_tanker_receiver() * ReceptacleInReceiver();
+    const Eigen::Vector3d receptacle = rows.back().T_tanker_receiver() * o.receptacle;
     EXPECT_LT((receptacle - nozzle).norm(), 0.3);
     int regions[4] = {0, 0, 0, 0};
     for (const auto& row : rows) {

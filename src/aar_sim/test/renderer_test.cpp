@@ -273,7 +273,7 @@ TEST(Renderer, TwoRenderersLiveSideBySide) {
 
 TEST(Renderer, MissingModelsAndBadIntrinsicsFailClearly) {
   WorldOptions o = TestWorld(true);
-  o.receiver_mesh = "/nonexistent/receiver.obj";
+  o.receiver.mesh = "/nonexistent/receiver.obj";
   try {
     World world(o);
     ADD_FAILURE();

@@ -4,20 +4,34 @@
 // With SEED, one approach of a suite instead (aar_sim::VariedApproach): start offset, closure
 // profile, wander and boom motion drawn from SEED; its settings are printed as one CSV line
 // (seed,elevation_deg,azimuth_deg,far_speed,mid_speed,near_speed,position_wander_m,
-// attitude_wander_deg,boom_swing).
-//   generate_approach MODELS_DIR FLIGHT_PATH_CSV [SEED]
+// attitude_wander_deg,boom_swing). With --receiver, the approach of that receiver (a receiver
+// description with a receptacle, e.g. MODELS_DIR/rq4.yaml); default: the C-12.
+//   generate_approach [--receiver DESCRIPTION] MODELS_DIR FLIGHT_PATH_CSV [SEED]
 #include <filesystem>
 #include <iostream>
 #include <string>
 
 #include <aar_description/boom_model.h>
+#include <aar_description/receiver_description.h>
 #include <aar_geometry/robot_model.h>
 
 #include "aar_sim/approach.h"
 
 int main(int argc, char** argv) {
+  std::string receiver;
+  if (argc >= 2 && std::string(argv[1]) == "--receiver") {
+    if (argc < 3) {
+      std::cerr << "generate_approach: --receiver needs a receiver description\n";
+      return 2;
+    }
+    receiver = argv[2];
+    argv[2] = argv[0];
+    argc -= 2;
+    argv += 2;
+  }
   if (argc != 3 && argc != 4) {
-    std::cerr << "usage: generate_approach MODELS_DIR FLIGHT_PATH_CSV [SEED]\n";
+    std::cerr << "usage: generate_approach [--receiver DESCRIPTION] MODELS_DIR FLIGHT_PATH_CSV "
+                 "[SEED]\n";
     return 2;
   }
   const std::string dir = argv[1];
@@ -33,6 +47,14 @@ int main(int argc, char** argv) {
     options = aar_sim::VariedApproach(std::stoull(seed));
   }
   try {
+    if (!receiver.empty()) {
+      const auto description = aar_description::LoadReceiverDescription(receiver);
+      if (!description.has_receptacle) {
+        std::cerr << "generate_approach: " << receiver << ": no receptacle in the description\n";
+        return 2;
+      }
+      options.receptacle = description.receptacle;
+    }
     // Kinematics from the boom's URDF (meshes resolved in MODELS_DIR) so that the path and the
     // model cannot disagree.
     const std::string abs_dir = std::filesystem::absolute(dir).string();

@@ -455,9 +455,36 @@ TEST(Tracking, CoastsLosesReacquiresAndResetsOnStampsGoingBack) {
 TEST(BadInput, MissingReferenceMeshExitsNamingIt) {
   const auto r = aar_testing::RunCommand(
       "timeout 30 rosrun aar_registration registration_node __name:=bad_mesh _reference:=dense "
-      "_receiver_mesh:=/nonexistent/receiver.obj");
+      "_receiver:=/nonexistent/receiver.obj");
   EXPECT_EQ(r.status, 1) << r.output;
   EXPECT_NE(r.output.find("/nonexistent/receiver.obj"), std::string::npos) << r.output;
+}
+
+// A receiver mesh in millimetres (13 km long) and an open one stop the node, the file and the
+// figure named.
+TEST(BadInput, ReceiverInWrongUnitsOrOpenExitsNamingIt) {
+  const std::string mm = ::testing::TempDir() + "/receiver_mm.obj";
+  aar_geometry::WriteObj(
+      mm, aar_geometry::Scaled(aar_geometry::LoadMesh(aar_testing::ModelsDir() + "/receiver.obj"),
+                               Eigen::Vector3d::Constant(1000.0)));
+  auto r = aar_testing::RunCommand(
+      "timeout 30 rosrun aar_registration registration_node __name:=mm_mesh _reference:=dense "
+      "_receiver:=" +
+      mm);
+  EXPECT_EQ(r.status, 1) << r.output;
+  EXPECT_NE(r.output.find(mm + ": the receiver model is 16610 m across"), std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("millimetres"), std::string::npos) << r.output;
+  // The C-12's mesh alone, without its description's allowance for the open fin root.
+  r = aar_testing::RunCommand(
+      "timeout 30 rosrun aar_registration registration_node __name:=open_mesh _reference:=dense "
+      "_receiver:=" +
+      aar_testing::ModelsDir() + "/receiver.obj");
+  EXPECT_EQ(r.status, 1) << r.output;
+  EXPECT_NE(r.output.find("receiver.obj: the receiver model is open: 22 of 144 edges"),
+            std::string::npos)
+      << r.output;
+  std::remove(mm.c_str());
 }
 
 }  // namespace

@@ -144,7 +144,7 @@ TEST(Sim, BadInputExitsNonZeroNamingTheProblem) {
   EXPECT_EQ(RunSim("__name:=typo _flight_path:=" + path + " _image_widht:=320", &log), 1);
   EXPECT_NE(log.find("unknown parameter /typo/image_widht"), std::string::npos) << log;
   EXPECT_EQ(
-      RunSim("__name:=no_mesh _flight_path:=" + path + " _receiver_mesh:=/nonexistent/receiver.obj",
+      RunSim("__name:=no_mesh _flight_path:=" + path + " _receiver:=/nonexistent/receiver.obj",
              &log),
       1);
   EXPECT_NE(log.find("/nonexistent/receiver.obj"), std::string::npos) << log;

@@ -36,4 +36,22 @@ TEST(SuiteScript, BadArgumentsAreNamedAndRefused) {
   }
 }
 
+// scripts/run --receiver: an unknown receiver, or one without an approach of its own and no
+// --flight-path, is named and refused before setup and build.
+TEST(RunScript, BadReceiverIsNamedAndRefused) {
+  const std::string run = aar_testing::WorkspaceRoot() + "/scripts/run";
+  auto r = aar_testing::RunCommand(run + " --receiver nonesuch --out /tmp/aar_run_script_test");
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_NE(r.output.find("run: --receiver: no receiver 'nonesuch'"), std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("available: c12,rq4"), std::string::npos) << r.output;
+  const std::string copy = "/tmp/aar_run_script_test_uav.yaml";  // a description elsewhere
+  aar_testing::RunCommand("cp " + aar_testing::ModelsDir() + "/rq4.yaml " + copy);
+  r = aar_testing::RunCommand(run + " --receiver " + copy + " --out /tmp/aar_run_script_test");
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_NE(r.output.find("has no approach"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("give --flight-path"), std::string::npos) << r.output;
+  aar_testing::RunCommand("rm -f " + copy);
+}
+
 }  // namespace

@@ -6,6 +6,8 @@
 //     projection (here from truth, standing in for the last estimate), its speedup and the
 //     receiver points it keeps.
 //   bench_stereo [FRAMES] [REPEATS] [CSV]
+// AAR_RECEIVER (a receiver description, e.g. aar_description/models/rq4.yaml) and
+// AAR_FLIGHT_PATH (its approach) put another receiver on another path.
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -14,6 +16,7 @@
 #include <string>
 
 #include <aar_description/boom_model.h>
+#include <aar_description/receiver_description.h>
 #include <aar_geometry/robot_model.h>
 #include <aar_stereo/stereo.h>
 #include <aar_testing/sim_stereo.h>
@@ -72,10 +75,14 @@ int main(int argc, char** argv) {
         aar_sim::CameraIntrinsics::FromHorizontalFov(1280, 960, 60.0), 0.5,
         {env("AAR_RIG_X", -20.0), env("AAR_RIG_Y", 1.0), env("AAR_RIG_Z", -3.0)}, 180.0,
         env("AAR_RIG_PITCH", 25.0));
+    if (std::getenv("AAR_RECEIVER"))
+      w.receiver = aar_description::LoadReceiverDescription(std::getenv("AAR_RECEIVER"));
     const aar_stereo::StereoOptions options;  // thesis defaults: BM 9 / 48, every 8th point
     aar_testing::SimStereo sim(w, options);
     aar_sim::World& world = sim.world();
-    const auto path = aar_sim::FlightPath::Load(aar_testing::DefaultApproachPath());
+    const auto path = aar_sim::FlightPath::Load(std::getenv("AAR_FLIGHT_PATH")
+                                                    ? std::getenv("AAR_FLIGHT_PATH")
+                                                    : aar_testing::DefaultApproachPath());
     const aar_sim::CameraIntrinsics& k = w.rig.intrinsics;
     const aar_stereo::StereoGeometry& g = sim.geometry();
     aar_stereo::StereoOptions all = options;

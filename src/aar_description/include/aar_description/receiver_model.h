@@ -29,4 +29,32 @@ aar_geometry::TriangleMesh MakeReceiverMesh(const ReceiverModelOptions& options 
 // the receiver frame [m].
 Eigen::Vector3d ReceptacleInReceiver();
 
+// Procedural RQ-4B / MQ-4C class high-altitude UAV from published dimensions: span 39.9 m,
+// length 14.5 m; a bulged forward fuselage (the satellite-antenna radome, about 1.6 m tall and
+// wide), a shoulder wing with 3 deg dihedral (root chord 2.2 m, tip 0.75 m), one engine nacelle
+// on top of the aft fuselage and a V-tail of two 3 m surfaces at 50 deg. Other figures are
+// estimates from published drawings. No landing gear (the published 4.7 m height includes it).
+//
+// Built in the receiver body frame (REP-103) with the origin on the fuselage reference line
+// 4.6 m aft of the nose tip, 0.4 m aft of the receptacle (so that contact falls in region C, as
+// the C-12's does). The file, models/rq4.obj, is written in fuselage-station axes instead (x
+// from the nose tip aft, y to the right wing, z up, [m]), as drawings give them;
+// models/rq4.yaml maps them into the body frame (kUavStationToBody).
+struct UavModelOptions {
+  int ring_segments = 40;  // facets around fuselage and nacelle
+  int chord_points = 18;   // points along each airfoil surface
+  int span_sections = 24;  // sections along each wing
+};
+
+// Parts: nose, fuselage, left_wing, right_wing, engine_nacelle, left_tail, right_tail. "Wings
+// and nose" is {nose, left_wing, right_wing}.
+aar_geometry::TriangleMesh MakeUavMesh(const UavModelOptions& options = {});
+
+// The UAV's refueling receptacle on the upper fuselage ahead of the wing [m], body frame.
+Eigen::Vector3d UavReceptacleInReceiver();
+
+// T_body_station: fuselage-station coordinates (x aft from the nose tip, y right, z up [m])
+// into the UAV's body frame.
+Eigen::Isometry3d UavStationToBody();
+
 }  // namespace aar_description

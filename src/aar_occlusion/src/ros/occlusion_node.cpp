@@ -33,7 +33,7 @@ OcclusionNode::OcclusionNode(ros::NodeHandle nh, ros::NodeHandle private_nh,
   }
   std::optional<aar_geometry::TriangleMesh> receiver;
   if (options_.step.build_reference)
-    receiver = aar_geometry::LoadMesh(options_.receiver_mesh);  // throws: fatal
+    receiver = aar_description::LoadReceiverMesh(options_.receiver);  // throws: fatal
   step_ = std::make_unique<OcclusionStep>(options_.step, boom, boom_error,
                                           receiver ? &*receiver : nullptr);
   if (!step_->boom_error().empty())

@@ -23,7 +23,7 @@ OcclusionNodeOptions LoadOcclusionNodeOptions(aar_ros_common::ParamReader& param
   step.boom.cull_behind_boom = params.Get("cull_behind_boom", step.boom.cull_behind_boom);
   step.build_reference = params.Get("publish_reference", step.build_reference);
   o.robot_description = params.Get("robot_description", o.robot_description);
-  o.receiver_mesh = aar_ros_common::LoadReceiverModel(params, step.sampling);
+  o.receiver = aar_ros_common::LoadReceiverModel(params, step.sampling);
   // Sampling does not cast rays here: the tolerance is the dynamic reference's self-occlusion.
   step.reference.visibility_tolerance = step.sampling.visibility_tolerance;
   step.reference.reshell_distance = params.Get("reshell_distance", step.reference.reshell_distance);

@@ -33,6 +33,8 @@ struct RegistrarOptions {
   ReferenceKind reference = ReferenceKind::kShelled;
   aar_geometry::ReferenceModelOptions sampling;
   Eigen::Isometry3d T_tanker_receiver_nominal = Eigen::Isometry3d::Identity();  // shelling pose
+  // The parts of the static "wings and nose" reference (a receiver description's static_parts).
+  std::vector<std::string> static_parts = {"left_wing", "right_wing", "nose"};
   IcpOptions icp;
   SeedMode seed = SeedMode::kCentroid;
   double previous_max_age = 1.0;  // [s] older previous estimates are not used as seeds

@@ -48,7 +48,7 @@ RegistrationNode::RegistrationNode(ros::NodeHandle nh, ros::NodeHandle private_n
         nh_.createWallTimer(ros::WallDuration(0.1), &RegistrationNode::ExpirePending, this);
   } else {
     // A mesh that does not load ends the node: a configuration error.
-    receiver_mesh_ = aar_geometry::LoadMesh(options_.receiver_mesh);
+    receiver_mesh_ = aar_description::LoadReceiverMesh(options_.receiver);
     // The cameras' tf may come later (start-up order): frames until then get no estimate.
     reference_wait_since_ = ros::WallTime::now();
     if (!TryBuildStaticReference(2.0)) {
@@ -297,11 +297,13 @@ void RegistrationNode::PublishModels() {
   models_pub_ = nh_.advertise<visualization_msgs::MarkerArray>("aar/receiver_models", 1, true);
   visualization_msgs::MarkerArray models;
   models.markers.push_back(
-      aar_ros_common::MeshMarker(options_.frames.receiver, "estimate", options_.receiver_mesh,
-                                 aar_ros_common::Rgba(1.0f, 0.55f, 0.1f, 0.6f)));
+      aar_ros_common::MeshMarker(options_.frames.receiver, "estimate", options_.receiver.mesh,
+                                 aar_ros_common::Rgba(1.0f, 0.55f, 0.1f, 0.6f),
+                                 options_.receiver.T_body_mesh, options_.receiver.scale));
   models.markers.push_back(
-      aar_ros_common::MeshMarker(options_.truth_frame, "truth", options_.receiver_mesh,
-                                 aar_ros_common::Rgba(0.8f, 0.8f, 0.8f, 1.0f)));
+      aar_ros_common::MeshMarker(options_.truth_frame, "truth", options_.receiver.mesh,
+                                 aar_ros_common::Rgba(0.8f, 0.8f, 0.8f, 1.0f),
+                                 options_.receiver.T_body_mesh, options_.receiver.scale));
   models_pub_.publish(models);
 }
 

@@ -21,14 +21,22 @@ RegistrationNodeOptions LoadRegistrationNodeOptions(aar_ros_common::ParamReader&
                                                  {"wings_nose", ReferenceKind::kWingsNose},
                                                  {"dense", ReferenceKind::kDense},
                                                  {"topic", ReferenceKind::kTopic}});
-  o.receiver_mesh = aar_ros_common::LoadReceiverModel(params, r.sampling);
-  // Nominal pose for shelling: the default approach's contact pose.
-  const Eigen::Vector3d nominal(params.Get("nominal_x", -35.0), params.Get("nominal_y", 0.0),
-                                params.Get("nominal_z", -10.19));
+  o.receiver = aar_ros_common::LoadReceiverModel(params, r.sampling);
+  if (!o.receiver.static_parts.empty()) r.static_parts = o.receiver.static_parts;
+  // Nominal pose for shelling: the receiver's contact pose (its description's; else the C-12's
+  // on the default approach).
+  Eigen::Vector3d contact(-35.0, 0.0, -10.19), contact_rpy_deg(0.0, -2.0, 0.0);
+  if (o.receiver.has_contact) {
+    contact = o.receiver.T_tanker_receiver_contact.translation();
+    contact_rpy_deg = o.receiver.contact_rpy_deg;
+  }
+  const Eigen::Vector3d nominal(params.Get("nominal_x", contact.x()),
+                                params.Get("nominal_y", contact.y()),
+                                params.Get("nominal_z", contact.z()));
   const aar_geometry::RollPitchYaw nominal_rpy{
-      aar_geometry::DegToRad(params.Get("nominal_roll_deg", 0.0)),
-      aar_geometry::DegToRad(params.Get("nominal_pitch_deg", -2.0)),
-      aar_geometry::DegToRad(params.Get("nominal_yaw_deg", 0.0))};
+      aar_geometry::DegToRad(params.Get("nominal_roll_deg", contact_rpy_deg.x())),
+      aar_geometry::DegToRad(params.Get("nominal_pitch_deg", contact_rpy_deg.y())),
+      aar_geometry::DegToRad(params.Get("nominal_yaw_deg", contact_rpy_deg.z()))};
   r.T_tanker_receiver_nominal = aar_geometry::MakeTransform(nominal, nominal_rpy);
   r.icp.metric = params.GetChoice<IcpMetric>("icp_metric", "point_to_point",
                                              {{"point_to_point", IcpMetric::kPointToPoint},

@@ -3,6 +3,8 @@
 #include <cstdint>
 #include <vector>
 
+#include <aar_description/receiver_model.h>
+
 #include "aar_sim/flight_path.h"
 
 namespace aar_sim {
@@ -30,6 +32,8 @@ struct ApproachOptions {
   // meets the receptacle at contact.
   double boom_swing = 0.0;
   uint64_t seed = 7;
+  // [m] the receiver's receptacle in its body frame (a receiver description's `receptacle`)
+  Eigen::Vector3d receptacle = aar_description::ReceptacleInReceiver();
 };
 
 // One approach of a suite: the default's shape with start offset (elevation 8-18 deg, azimuth

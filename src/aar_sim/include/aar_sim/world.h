@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include <aar_description/receiver_description.h>
 #include <aar_geometry/robot_model.h>
 
 #include "aar_sim/flight_path.h"
@@ -14,8 +15,8 @@
 namespace aar_sim {
 
 struct WorldOptions {
-  std::string receiver_mesh;  // receiver OBJ (parts labelled), receiver frame
-  std::string boom_urdf;      // boom URDF; its root link is the tanker frame
+  aar_description::ReceiverDescription receiver;  // mesh, its scale and datum
+  std::string boom_urdf;                          // boom URDF; its root link is the tanker frame
   aar_geometry::RobotModelOptions urdf;
   StereoRig rig;             // its intrinsics are the renderer's
   RendererOptions renderer;  // intrinsics are taken from the rig
@@ -23,8 +24,8 @@ struct WorldOptions {
   RawCameraOptions raw;  // enabled: also the raw (distorted, unrectified) images
 };
 
-// The shipped world: receiver.obj and boom.urdf from `models_dir` (aar_description's models/,
-// whose parent's parent holds aar_description for package:// look-ups) and the default rig
+// The shipped world: the C-12 (c12.yaml) and boom.urdf from `models_dir` (aar_description's
+// models/, whose parent's parent holds aar_description for package:// look-ups) and the default rig
 // (1280x960, 60 deg, 0.5 m baseline, DESIGN.md mount). Renderer options stay at their defaults.
 WorldOptions DefaultWorldOptions(const std::string& models_dir);
 
@@ -41,7 +42,8 @@ struct StereoFrame {
 // The virtual world: receiver and boom models, the stereo rig and the renderer.
 class World {
  public:
-  // Throws aar_geometry::LoadError for a model that does not load, RenderError without EGL.
+  // Throws aar_geometry::LoadError for a model that does not load or fails the receiver checks
+  // (aar_description::LoadReceiverMesh), RenderError without EGL.
   explicit World(const WorldOptions& options);
 
   StereoFrame Render(const FlightPathRow& row, const BoomPose& boom, uint64_t frame_index,

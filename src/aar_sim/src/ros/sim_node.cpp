@@ -46,9 +46,10 @@ SimNode::SimNode(ros::NodeHandle nh, const SimNodeOptions& options)
   }
   // The receiver model at truth, for rviz: latched, locked to the receiver_truth frame.
   marker_pub_ = nh_.advertise<visualization_msgs::Marker>("sim/receiver_model", 1, true);
-  marker_pub_.publish(aar_ros_common::MeshMarker("receiver_truth", "receiver_truth",
-                                                 options_.world.receiver_mesh,
-                                                 aar_ros_common::Rgba(0.8f, 0.8f, 0.8f, 1.0f)));
+  const aar_description::ReceiverDescription& receiver = options_.world.receiver;
+  marker_pub_.publish(aar_ros_common::MeshMarker("receiver_truth", "receiver_truth", receiver.mesh,
+                                                 aar_ros_common::Rgba(0.8f, 0.8f, 0.8f, 1.0f),
+                                                 receiver.T_body_mesh, receiver.scale));
 
   const ros::Time now(options_.stamp_offset + path_.start_time());
   const StereoRig& rig = options_.world.rig;

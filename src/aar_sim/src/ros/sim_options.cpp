@@ -5,6 +5,7 @@
 #include <string>
 
 #include <aar_ros_common/param_reader.h>
+#include <aar_ros_common/receiver_params.h>
 #include <ros/package.h>
 
 #include "aar_sim/ros/sim_node.h"
@@ -62,7 +63,7 @@ SimNodeOptions LoadSimNodeOptions(aar_ros_common::ParamReader& params) {
   params.Allow("robot_description");  // tolerated: some launch files put it here
   o.flight_path = params.Required("flight_path", "a flight-path CSV");
   const std::string models = ros::package::getPath("aar_description") + "/models";
-  o.world.receiver_mesh = params.Get<std::string>("receiver_mesh", models + "/receiver.obj");
+  o.world.receiver = aar_ros_common::LoadReceiver(params);
   o.world.boom_urdf = params.Get<std::string>("boom_urdf", models + "/boom.urdf");
   o.world.boom_visible = params.Get("boom", true);
 

@@ -26,7 +26,7 @@ StereoNode::StereoNode(ros::NodeHandle nh, ros::NodeHandle private_nh,
       diagnostics_(nh, private_nh) {
   if (options_.roi.enabled) {
     const StereoRoiOptions& roi = options_.roi;
-    receiver_box_ = aar_geometry::LoadMesh(roi.receiver_mesh).Bounds();  // throws: fatal
+    receiver_box_ = aar_description::LoadReceiverMesh(roi.receiver).Bounds();  // throws: fatal
     if (roi.include_boom) {
       // Searched upwards from the stereo namespace, as robot_state_publisher's is found.
       std::string key, urdf;

@@ -79,7 +79,7 @@ StereoNodeOptions LoadStereoNodeOptions(aar_ros_common::ParamReader& params) {
   roi.estimate_wait = params.GetNonNegative("estimate_wait", roi.estimate_wait);
   roi.tf_timeout = params.GetNonNegative("tf_timeout", roi.tf_timeout);
   roi.robot_description = params.Get("robot_description", roi.robot_description);
-  roi.receiver_mesh = aar_ros_common::LoadReceiverMesh(params);
+  roi.receiver = aar_ros_common::LoadReceiver(params);
   roi.frames = aar_ros_common::LoadStackFrames(params);
   // Everything else in ~ must be a reconfigurable setting (dynamic_reconfigure reads those) or
   // diagnostic_updater's period: a typo would otherwise be ignored.

@@ -18,6 +18,8 @@
 
 #include <aar_ros_common/estimate_listener.h>
 
+#include <aar_description/receiver_description.h>
+
 #include "aar_occlusion/occlusion_step.h"
 
 namespace aar_occlusion {
@@ -25,10 +27,10 @@ namespace aar_occlusion {
 struct OcclusionNodeOptions {
   OcclusionStepOptions step;                            // culling, margins, the dynamic reference
   std::string robot_description = "robot_description";  // parameter holding the boom's URDF
-  std::string receiver_mesh;           // default: aar_description's models/receiver.obj
-  aar_ros_common::StackFrames frames;  // tanker, receiver (estimate), cameras
-  double tf_timeout = 0.5;             // [s wall] waiting for the cloud's, cameras' and links' tf
-  double estimate_max_age = 1.0;       // [s] an older estimate is not used as the predicted pose
+  aar_description::ReceiverDescription receiver;        // ~receiver (default: the C-12)
+  aar_ros_common::StackFrames frames;                   // tanker, receiver (estimate), cameras
+  double tf_timeout = 0.5;        // [s wall] waiting for the cloud's, cameras' and links' tf
+  double estimate_max_age = 1.0;  // [s] an older estimate is not used as the predicted pose
   // [s wall] how long to wait for the estimate of the previous cloud (tf tanker -> receiver at
   // its stamp): in lockstep it is on its way, and waiting makes runs repeatable.
   double estimate_wait = 0.2;

@@ -21,16 +21,18 @@
 #include <tf2_ros/transform_broadcaster.h>
 #include <tf2_ros/transform_listener.h>
 
+#include <aar_description/receiver_description.h>
+
 #include "aar_registration/registrar.h"
 
 namespace aar_registration {
 
 struct RegistrationNodeOptions {
-  RegistrarOptions registrar;          // reference kind, sampling, nominal pose, ICP, seed policy
-  std::string receiver_mesh;           // default: aar_description's models/receiver.obj
-  aar_ros_common::StackFrames frames;  // tanker, receiver (estimate), cameras
-  std::string truth_frame = "receiver_truth";  // only for the rviz model at truth
-  double tf_timeout = 0.5;                     // [s wall] waiting for the sensed cloud's transform
+  RegistrarOptions registrar;  // reference kind, sampling, nominal pose, ICP, seed policy
+  aar_description::ReceiverDescription receiver;  // ~receiver (default: the C-12)
+  aar_ros_common::StackFrames frames;             // tanker, receiver (estimate), cameras
+  std::string truth_frame = "receiver_truth";     // only for the rviz model at truth
+  double tf_timeout = 0.5;  // [s wall] waiting for the sensed cloud's transform
   // [s wall] reference: topic: a cloud without a reference of its stamp this long is answered
   // with an invalid estimate.
   double reference_timeout = 2.0;

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <aar_description/receiver_description.h>
 #include <aar_geometry/robot_model.h>
 #include <aar_ros_common/error_throttle.h>
 #include <aar_ros_common/estimate_listener.h>
@@ -41,8 +42,8 @@ struct StereoRoiOptions {
   double estimate_max_age = 0.5;  // [s] an older estimate gives the whole image
   // [s wall] wait for the previous frame's estimate (repeatable lockstep runs; 0 in real time).
   double estimate_wait = 0.2;
-  double tf_timeout = 0.05;   // [s wall] for the camera's and the boom links' tf
-  std::string receiver_mesh;  // default: aar_description's models/receiver.obj
+  double tf_timeout = 0.05;  // [s wall] for the camera's and the boom links' tf
+  aar_description::ReceiverDescription receiver;        // ~receiver (default: the C-12)
   std::string robot_description = "robot_description";  // parameter holding the boom's URDF
   aar_ros_common::StackFrames frames;
 };
