@@ -6,6 +6,10 @@
 #include <chrono>
 #include <cstdio>
 #include <memory>
+#include <stdexcept>
+#include <string>
+
+#include "aar_testing/paths.h"
 
 namespace aar_testing {
 
@@ -21,6 +25,15 @@ CommandResult RunCommand(const std::string& command) {
   r.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return r;
+}
+
+int FreeRosPort() {
+  const CommandResult r = RunCommand(WorkspaceRoot() + "/scripts/ros-port");
+  try {
+    return r.status == 0 ? std::stoi(r.output) : 0;
+  } catch (const std::exception&) {
+    return 0;
+  }
 }
 
 }  // namespace aar_testing

@@ -16,19 +16,12 @@
 #include <string>
 #include <vector>
 
+#include "aar_testing/command.h"
 #include "aar_testing/paths.h"
 
 namespace {
 
 const std::string kRoot = aar_testing::WorkspaceRoot();
-
-int FreePort() {  // scripts/ros-port: a free port for a master of our own
-  FILE* pipe = popen((kRoot + "/scripts/ros-port").c_str(), "r");
-  int port = 0;
-  if (pipe == nullptr || std::fscanf(pipe, "%d", &port) != 1) port = 0;
-  if (pipe != nullptr) pclose(pipe);
-  return port;
-}
 
 struct PipelineRun {
   int frames = 0, estimated = 0;
@@ -40,7 +33,7 @@ PipelineRun RunPipeline(const std::string& experiment, int frames, double start_
   const std::string tag = experiment + "_" + std::to_string(static_cast<int>(start_s * 10));
   const std::string out = ::testing::TempDir() + "/full_graph_" + tag;
   std::filesystem::remove_all(out);
-  const int port = FreePort();
+  const int port = aar_testing::FreeRosPort();
   EXPECT_GT(port, 0);
   std::ostringstream start;
   start << start_s;

@@ -20,6 +20,7 @@
 
 #include <Eigen/Core>
 
+#include "aar_testing/command.h"
 #include "aar_testing/paths.h"
 
 namespace {
@@ -27,14 +28,6 @@ namespace {
 const std::string kRoot = aar_testing::WorkspaceRoot();
 constexpr int kFrames = 8;
 constexpr double kStart = 47.0;  // [s] path time
-
-int FreePort() {  // scripts/ros-port: a free port for a master of our own
-  FILE* pipe = popen((kRoot + "/scripts/ros-port").c_str(), "r");
-  int port = 0;
-  if (pipe == nullptr || std::fscanf(pipe, "%d", &port) != 1) port = 0;
-  if (pipe != nullptr) pclose(pipe);
-  return port;
-}
 
 struct FrameError {
   double t = 0.0;  // [s] path time
@@ -54,7 +47,7 @@ PipelineRun RunPipeline(const std::string& tag, const std::string& args) {
   const std::string out = ::testing::TempDir() + "/rawcam_" + tag;
   std::filesystem::remove_all(out);
   std::filesystem::create_directories(out);
-  const int port = FreePort();
+  const int port = aar_testing::FreeRosPort();
   EXPECT_GT(port, 0);
   std::ostringstream command;
   command << "ROS_MASTER_URI=http://localhost:" << port

@@ -14,19 +14,12 @@
 #include <string>
 #include <vector>
 
+#include "aar_testing/command.h"
 #include "aar_testing/paths.h"
 
 namespace {
 
 const std::string kRoot = aar_testing::WorkspaceRoot();
-
-int FreePort() {  // scripts/ros-port: a free port for a master of our own
-  FILE* pipe = popen((kRoot + "/scripts/ros-port").c_str(), "r");
-  int port = 0;
-  if (pipe == nullptr || std::fscanf(pipe, "%d", &port) != 1) port = 0;
-  if (pipe != nullptr) pclose(pipe);
-  return port;
-}
 
 struct UavRun {
   int frames = 0, estimated = 0;
@@ -41,7 +34,7 @@ UavRun RunUav(const std::string& experiment, int frames, double start_s,
   const std::string out = ::testing::TempDir() + "/receiver_graph_" + tag;
   std::filesystem::remove_all(out);
   std::filesystem::create_directories(out);
-  const int port = FreePort();
+  const int port = aar_testing::FreeRosPort();
   EXPECT_GT(port, 0);
   std::ostringstream command;
   command << "ROS_MASTER_URI=http://localhost:" << port

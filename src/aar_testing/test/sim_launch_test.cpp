@@ -21,15 +21,10 @@ constexpr double kEndsWithinS = 45.0;
 using Result = aar_testing::CommandResult;
 const auto Sh = aar_testing::RunCommand;
 
-int FreePort() {  // scripts/ros-port: a free port for a master of our own
-  const Result r = Sh(kRoot + "/scripts/ros-port");
-  return r.status == 0 ? std::stoi(r.output) : 0;
-}
-
 // roslaunch launch/sim.launch ARGS on a master of its own, stopped by `timeout` after twice
 // kEndsWithinS if it does not end.
 Result RunSimLaunch(const std::string& args) {
-  const int port = FreePort();
+  const int port = aar_testing::FreeRosPort();
   EXPECT_GT(port, 0);
   const std::string command =
       "ROS_MASTER_URI=http://localhost:" + std::to_string(port) + " timeout --signal=INT " +

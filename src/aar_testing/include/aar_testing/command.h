@@ -13,4 +13,7 @@ struct CommandResult {
 // Runs `command` through /bin/sh with stderr joined to stdout, and waits for it.
 CommandResult RunCommand(const std::string& command);
 
+// A free port for a ROS master of the caller's own (scripts/ros-port); 0 if none was found.
+int FreeRosPort();
+
 }  // namespace aar_testing
