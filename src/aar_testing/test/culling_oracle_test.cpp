@@ -76,7 +76,9 @@ TEST(CullingOracle, RemovesBoomPointsAndKeepsReceiverPoints) {
     EXPECT_GT(c.receiver, 20000);
     EXPECT_GE(c.boom_culled, 0.9995 * c.boom);  // measured: 13426 of 13426, every method
     // The thesis's whole ray also takes the receiver seen within the margin's shadow.
-    if (m < 2) EXPECT_LE(c.receiver_culled, 0.0095 * c.receiver);  // measured: 0.86 %
+    if (m < 2) {
+      EXPECT_LE(c.receiver_culled, 0.0095 * c.receiver);  // measured: 0.86 %
+    }
   }
 }
 

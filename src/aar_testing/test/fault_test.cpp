@@ -236,12 +236,6 @@ Resumption Analyse(const std::vector<ProbeRow>& rows, double fault_s, double unt
   return z;
 }
 
-int Count(const std::string& text, const std::string& needle) {
-  int n = 0;
-  for (size_t at = text.find(needle); at != std::string::npos; at = text.find(needle, at + 1)) ++n;
-  return n;
-}
-
 const std::string kLive =
     "pipeline.launch experiment:=dynamic lockstep:=false rate:=2 start_time:=20 respawn:=true "
     "output_dir:=%OUT%/eval";
