@@ -161,9 +161,8 @@ struct BadInputFixture {
   bool ErrorLogged(const std::string& text, double seconds) { return errors.Wait(text, seconds); }
 };
 
-TEST(BadInput, ErrorsAreNamedFramesSkippedNodeAlive) {
-  BadInputFixture f;
-  // Wait for the node to subscribe (lazily, once points2 has our subscriber).
+// Waits until aar_stereo under `f` subscribed to all four inputs and its log can arrive.
+void WaitConnected(BadInputFixture& f) {
   auto connected = [&f] {
     return f.left.getNumSubscribers() > 0 && f.right.getNumSubscribers() > 0 &&
            f.left_info.getNumSubscribers() > 0 && f.right_info.getNumSubscribers() > 0 &&
@@ -172,6 +171,12 @@ TEST(BadInput, ErrorsAreNamedFramesSkippedNodeAlive) {
   aar_testing::WaitFor(connected, 20.0);
   ASSERT_TRUE(connected()) << "aar_stereo never subscribed to all four inputs";
   ros::WallDuration(0.5).sleep();
+}
+
+TEST(BadInput, ErrorsAreNamedFramesSkippedNodeAlive) {
+  BadInputFixture f;
+  // Wait for the node to subscribe (lazily, once points2 has our subscriber).
+  ASSERT_NO_FATAL_FAILURE(WaitConnected(f));
   double t = 100.0;
 
   Pair sizes = GoodPair(ros::Time(t += 1));
@@ -332,18 +337,6 @@ TEST(BadInput, PairsThatWaitedTooLongAreDroppedNotProcessedLate) {
   EXPECT_EQ(f.points.by_stamp.count(fresh), 1u) << "a fresh pair after a late one gave no cloud";
 }
 
-// Waits until aar_stereo under `f` subscribed to all four inputs and its log can arrive.
-void WaitConnected(BadInputFixture& f) {
-  auto connected = [&f] {
-    return f.left.getNumSubscribers() > 0 && f.right.getNumSubscribers() > 0 &&
-           f.left_info.getNumSubscribers() > 0 && f.right_info.getNumSubscribers() > 0 &&
-           f.errors.Connected();
-  };
-  aar_testing::WaitFor(connected, 20.0);
-  ASSERT_TRUE(connected()) << "aar_stereo never subscribed to all four inputs";
-  ros::WallDuration(0.5).sleep();
-}
-
 std::string Str(const ros::Time& t) {
   std::ostringstream s;
   s << t;
@@ -355,7 +348,7 @@ std::string Str(const ros::Time& t) {
 // occlusion and registration after newer ones. Dropped, named with both stamps; the node goes on.
 TEST(Stamps, PairsThatComeLateAreDroppedAndNamed) {
   BadInputFixture f("/exact", rosgraph_msgs::Log::WARN);
-  WaitConnected(f);
+  ASSERT_NO_FATAL_FAILURE(WaitConnected(f));
   const ros::Time t0 = ros::Time::now();
   const ros::Duration d(0.1);
   const ros::Time late = t0 + ros::Duration(0.15);
@@ -386,7 +379,7 @@ TEST(Stamps, PairsThatComeLateAreDroppedAndNamed) {
 // sync never pairs them: "stamps never match" (BadInput.ErrorsAreNamedFramesSkippedNodeAlive).
 TEST(Stamps, LaggingCameraGivesNoCloudFromHalvesTakenApart) {
   BadInputFixture f("/approx", rosgraph_msgs::Log::WARN);
-  WaitConnected(f);
+  ASSERT_NO_FATAL_FAILURE(WaitConnected(f));
   auto send = [&](double lag_s, std::vector<ros::Time>* left, std::vector<ros::Time>* right) {
     for (int k = 0; k < 10; ++k) {
       Pair p = GoodPair(ros::Time::now());
