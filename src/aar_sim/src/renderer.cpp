@@ -6,7 +6,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
-#include <random>
 
 namespace aar_sim {
 namespace {
@@ -107,6 +106,108 @@ void main() {
 }
 )";
 
+// Background pass (issue 16, docs/realism/scene.md): each pixel's ray meets the ground plane and
+// the cloud layer in the tanker frame; texture in tanker x/y [m] (the same for both cameras),
+// octaves faded by the pixel footprint, haze towards the sky with distance. Writes its own label
+// and optical-z depth; drawn before the meshes with depth writes off, so meshes cover it.
+const char* kBackgroundVertexShader = R"(#version 450 core
+void main() {  // one triangle over the whole viewport
+  vec2 p = vec2(float((gl_VertexID & 1) << 2) - 1.0, float((gl_VertexID & 2) << 1) - 1.0);
+  gl_Position = vec4(p, 0.999, 1.0);
+}
+)";
+
+const char* kBackgroundFragmentShader = R"(#version 450 core
+uniform vec4 u_intrinsics;  // fx, fy, cx, cy [px]
+uniform float u_height;     // [px] image height
+uniform mat3 u_tanker_from_optical;
+uniform vec3 u_camera;      // [m] camera centre in the tanker frame
+uniform float u_sky;        // sky radiance
+uniform float u_shade;      // Lambert shade of a level surface
+uniform int u_kind;         // 1 sea, 2 terrain
+uniform float u_ground_z;   // [m] ground plane z in the tanker frame
+uniform float u_cloud_z;    // [m] cloud layer z in the tanker frame
+uniform float u_coverage;   // [0, 1]
+uniform float u_cloud_min_range;  // [m]
+uniform float u_visibility;       // [m]
+layout(location = 0) out float out_intensity;
+layout(location = 1) out uint out_label;
+layout(location = 2) out float out_depth;
+
+// 2-D lattice hash (lowbias32 of a linear mix): cheaper than PCG3D, which cost a third of the speed.
+float Lattice(ivec2 i, uint salt) {
+  uint h = uint(i.x) * 0x8da6b343u ^ uint(i.y) * 0xd8163841u ^ salt * 0xcb1ab31fu;
+  h ^= h >> 16u; h *= 0x7feb352du; h ^= h >> 15u; h *= 0x846ca68bu; h ^= h >> 16u;
+  return float(h & 0xffffu) / 65535.0;
+}
+float ValueNoise(vec2 p, uint salt) {
+  ivec2 i = ivec2(floor(p));
+  vec2 f = fract(p);
+  vec2 s = f * f * (3.0 - 2.0 * f);
+  return mix(mix(Lattice(i, salt), Lattice(i + ivec2(1, 0), salt), s.x),
+             mix(Lattice(i + ivec2(0, 1), salt), Lattice(i + ivec2(1, 1), salt), s.x), s.y);
+}
+float Visible(float size, float footprint) { return 1.0 - smoothstep(0.5 * size, 1.5 * size, footprint); }
+// Zero-mean fbm: octaves of size base / 3^i, each faded out once it is below a pixel.
+float Fbm(vec2 p, float base, int octaves, float footprint, uint salt) {
+  float sum = 0.0, amp = 0.5, size = base;
+  for (int i = 0; i < octaves; ++i) {
+    if (footprint >= 1.5 * size) break;  // this and all finer octaves are below a pixel
+    sum += amp * (ValueNoise(p / size, salt + uint(i)) - 0.5) * Visible(size, footprint);
+    amp *= 0.6;
+    size /= 3.0;
+  }
+  return sum;
+}
+
+void main() {
+  float u = gl_FragCoord.x - 0.5, v = u_height - 0.5 - gl_FragCoord.y;
+  vec3 d = u_tanker_from_optical * vec3((u - u_intrinsics.z) / u_intrinsics.x,
+                                        (v - u_intrinsics.w) / u_intrinsics.y, 1.0);
+  // Ray parameters (= optical z, as the ray's optical z is 1); clamped above the horizon so that
+  // the derivatives below are taken in uniform control flow.
+  float dz = min(d.z, -1e-6);
+  float t_ground = (u_ground_z - u_camera.z) / dz;
+  float t_cloud = (u_cloud_z - u_camera.z) / dz;
+  vec2 g = u_camera.xy + t_ground * d.xy;
+  vec2 c = u_camera.xy + t_cloud * d.xy;
+  float foot_g = max(length(fwidth(g)), 1e-3);  // [m] per pixel
+  float foot_c = max(length(fwidth(c)), 1e-3);
+  if (d.z >= -1e-6) {  // above the horizon: empty sky
+    out_intensity = u_sky;
+    out_label = 0u;
+    out_depth = 0.0;
+    return;
+  }
+  float albedo;
+  if (u_kind == 1) {  // sea: dark, swell along y and wind ripples
+    albedo = 0.16 + 0.5 * Fbm(vec2(g.x, 2.5 * g.y), 400.0, 6, foot_g, 31u);
+  } else {  // terrain: fields and forest patches over large-scale relief shading
+    albedo = 0.34 + 0.55 * Fbm(g, 4000.0, 7, foot_g, 17u);
+  }
+  float len = length(d);
+  float haze_g = exp(-t_ground * len / u_visibility);
+  float ground = mix(u_sky, clamp(albedo, 0.02, 0.9) * u_shade, haze_g);
+
+  float alpha = 0.0;
+  if (u_coverage > 0.0) {
+    float density = Fbm(c, 6000.0, 5, foot_c, 53u) + 0.5;  // about 0.5 +- 0.3
+    float threshold = mix(0.85, 0.15, u_coverage);
+    alpha = smoothstep(threshold - 0.05, threshold + 0.05, density) *
+            smoothstep(u_cloud_min_range, 1.1 * u_cloud_min_range, length(c));
+  }
+  out_intensity = ground;
+  if (alpha > 0.0) {
+    float cloud_albedo = 0.88 + 0.4 * Fbm(c, 800.0, 4, foot_c, 71u);
+    float cloud = mix(u_sky, cloud_albedo, exp(-t_cloud * len / u_visibility));
+    out_intensity = mix(ground, cloud, alpha);
+  }
+  bool is_cloud = alpha >= 0.5;
+  out_label = is_cloud ? 4u : 3u;
+  out_depth = is_cloud ? t_cloud : t_ground;
+}
+)";
+
 struct Mesh {
   GLuint vao = 0, vbo = 0;
   GLsizei vertices = 0;
@@ -128,37 +229,19 @@ GLuint Compile(GLenum type, const char* source) {
   return shader;
 }
 
-// Inverse of the standard normal CDF (Acklam's rational approximation, relative error < 1.2e-9).
-double NormalQuantile(double p) {
-  static const double a[] = {-3.969683028665376e+01, 2.209460984245205e+02,  -2.759285104469687e+02,
-                             1.383577518672690e+02,  -3.066479806614716e+01, 2.506628277459239e+00};
-  static const double b[] = {-5.447609879822406e+01, 1.615858368580409e+02, -1.556989798598866e+02,
-                             6.680131188771972e+01, -1.328068155288572e+01};
-  static const double c[] = {-7.784894002430293e-03, -3.223964580411365e-01, -2.400758277161838e+00,
-                             -2.549732539343734e+00, 4.374664141464968e+00,  2.938163982698783e+00};
-  static const double d[] = {7.784695709041462e-03, 3.224671290700398e-01, 2.445134137142996e+00,
-                             3.754408661907416e+00};
-  if (p < 0.02425) {
-    const double q = std::sqrt(-2.0 * std::log(p));
-    return (((((c[0] * q + c[1]) * q + c[2]) * q + c[3]) * q + c[4]) * q + c[5]) /
-           ((((d[0] * q + d[1]) * q + d[2]) * q + d[3]) * q + 1.0);
-  }
-  if (p > 1.0 - 0.02425) return -NormalQuantile(1.0 - p);
-  const double q = p - 0.5, r = q * q;
-  return (((((a[0] * r + a[1]) * r + a[2]) * r + a[3]) * r + a[4]) * r + a[5]) * q /
-         (((((b[0] * r + b[1]) * r + b[2]) * r + b[3]) * r + b[4]) * r + 1.0);
-}
-
-// Standard normal samples indexed by 16 random bits: 65536 equiprobable quantiles (tails cut at
-// 4.3 sigma). Four pixels per 64-bit draw; Box-Muller per pixel cost 45 ms a 1280x960 view.
-const std::vector<float>& NormalTable() {
-  static const std::vector<float> table = [] {
-    std::vector<float> t(65536);
-    for (size_t i = 0; i < t.size(); ++i)
-      t[i] = static_cast<float>(NormalQuantile((i + 0.5) / 65536.0));
-    return t;
-  }();
-  return table;
+GLuint Link(const char* vertex, const char* fragment) {
+  const GLuint vs = Compile(GL_VERTEX_SHADER, vertex);
+  const GLuint fs = Compile(GL_FRAGMENT_SHADER, fragment);
+  const GLuint program = glCreateProgram();
+  glAttachShader(program, vs);
+  glAttachShader(program, fs);
+  glLinkProgram(program);
+  GLint linked = 0;
+  glGetProgramiv(program, GL_LINK_STATUS, &linked);
+  glDeleteShader(vs);
+  glDeleteShader(fs);
+  if (!linked) throw RenderError("shader program does not link");
+  return program;
 }
 
 void CheckGl(const char* what) {
@@ -173,7 +256,8 @@ struct Renderer::Gl {
   EGLDisplay display = EGL_NO_DISPLAY;
   EGLContext context = EGL_NO_CONTEXT;
   GLuint program = 0, framebuffer = 0;
-  GLuint color[3] = {0, 0, 0};  // intensity R8, label R8UI, depth R32F
+  GLuint background_program = 0, background_vao = 0;  // 0 without a background
+  GLuint color[3] = {0, 0, 0};                        // radiance R32F, label R8UI, depth R32F
   GLuint depth_buffer = 0;
   std::vector<Mesh> meshes;
 
@@ -238,6 +322,16 @@ Renderer::Renderer(const RendererOptions& options)
   if (k.width <= 0 || k.height <= 0 || !(k.fx > 0.0) || !(k.fy > 0.0)) {
     throw RenderError("camera intrinsics need a positive size and focal length");
   }
+  const SceneOptions& sc = options_.scene;
+  if (sc.background != Background::kNone) {
+    if (!(sc.background_altitude_m > 0.0)) throw RenderError("background_altitude must be > 0");
+    if (!(sc.visibility_m > 0.0)) throw RenderError("visibility must be > 0");
+    if (!(sc.cloud_coverage >= 0.0 && sc.cloud_coverage <= 1.0))
+      throw RenderError("cloud_coverage must be in [0, 1]");
+    if (!(sc.cloud_altitude_m > 0.0 && sc.cloud_altitude_m < sc.background_altitude_m))
+      throw RenderError("cloud_altitude must be > 0 and below background_altitude");
+    if (!(sc.cloud_min_range_m >= 0.0)) throw RenderError("cloud_min_range must not be negative");
+  }
   std::string tried;
   gl_->display = OpenDisplay(&tried);
   if (gl_->display == EGL_NO_DISPLAY) throw RenderError("no EGL display available: " + tried);
@@ -257,22 +351,17 @@ Renderer::Renderer(const RendererOptions& options)
   }
   CurrentContext current(*gl_);
 
-  const GLuint vs = Compile(GL_VERTEX_SHADER, kVertexShader);
-  const GLuint fs = Compile(GL_FRAGMENT_SHADER, kFragmentShader);
-  gl_->program = glCreateProgram();
-  glAttachShader(gl_->program, vs);
-  glAttachShader(gl_->program, fs);
-  glLinkProgram(gl_->program);
-  GLint linked = 0;
-  glGetProgramiv(gl_->program, GL_LINK_STATUS, &linked);
-  glDeleteShader(vs);
-  glDeleteShader(fs);
-  if (!linked) throw RenderError("shader program does not link");
+  gl_->program = Link(kVertexShader, kFragmentShader);
+  if (options_.scene.background != Background::kNone) {
+    gl_->background_program = Link(kBackgroundVertexShader, kBackgroundFragmentShader);
+    glGenVertexArrays(1, &gl_->background_vao);
+  }
 
   glGenFramebuffers(1, &gl_->framebuffer);
   glBindFramebuffer(GL_FRAMEBUFFER, gl_->framebuffer);
   glGenRenderbuffers(3, gl_->color);
-  const GLenum formats[3] = {GL_R8, GL_R8UI, GL_R32F};
+  // Radiance in float: the sensor model (sensor.h) makes the grey levels.
+  const GLenum formats[3] = {GL_R32F, GL_R8UI, GL_R32F};
   for (int i = 0; i < 3; ++i) {
     glBindRenderbuffer(GL_RENDERBUFFER, gl_->color[i]);
     glRenderbufferStorage(GL_RENDERBUFFER, formats[i], k.width, k.height);
@@ -308,6 +397,8 @@ Renderer::~Renderer() {
     glDeleteRenderbuffers(1, &gl_->depth_buffer);
     glDeleteFramebuffers(1, &gl_->framebuffer);
     glDeleteProgram(gl_->program);
+    if (gl_->background_program) glDeleteProgram(gl_->background_program);
+    if (gl_->background_vao) glDeleteVertexArrays(1, &gl_->background_vao);
     eglMakeCurrent(gl_->display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
     eglDestroyContext(gl_->display, gl_->context);
   }
@@ -318,6 +409,64 @@ Renderer::~Renderer() {
 std::string Renderer::gl_renderer() const {
   CurrentContext current(*gl_);
   return reinterpret_cast<const char*>(glGetString(GL_RENDERER));
+}
+
+Image<uint8_t> Renderer::ConvertLikeR8Attachment(const Image<float>& radiance) {
+  static const char* kVertex = R"(#version 450 core
+void main() {  // one triangle over the whole viewport
+  gl_Position = vec4(gl_VertexID == 1 ? 3.0 : -1.0, gl_VertexID == 2 ? 3.0 : -1.0, 0.0, 1.0);
+}
+)";
+  static const char* kFragment = R"(#version 450 core
+uniform sampler2D u_radiance;
+layout(location = 0) out float out_intensity;
+void main() { out_intensity = texelFetch(u_radiance, ivec2(gl_FragCoord.xy), 0).r; }
+)";
+  CurrentContext current(*gl_);
+  const int w = radiance.width, h = radiance.height;
+  const GLuint vs = Compile(GL_VERTEX_SHADER, kVertex), fs = Compile(GL_FRAGMENT_SHADER, kFragment);
+  const GLuint program = glCreateProgram();
+  glAttachShader(program, vs);
+  glAttachShader(program, fs);
+  glLinkProgram(program);
+  glDeleteShader(vs);
+  glDeleteShader(fs);
+  GLuint texture = 0, framebuffer = 0, color = 0, vao = 0;
+  glGenTextures(1, &texture);
+  glBindTexture(GL_TEXTURE_2D, texture);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);  // complete without mipmaps
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  glTexImage2D(GL_TEXTURE_2D, 0, GL_R32F, w, h, 0, GL_RED, GL_FLOAT, radiance.data.data());
+  glGenFramebuffers(1, &framebuffer);
+  glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
+  glGenRenderbuffers(1, &color);
+  glBindRenderbuffer(GL_RENDERBUFFER, color);
+  glRenderbufferStorage(GL_RENDERBUFFER, GL_R8, w, h);
+  glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, color);
+  glGenVertexArrays(1, &vao);
+  glBindVertexArray(vao);
+  glViewport(0, 0, w, h);
+  glDisable(GL_DEPTH_TEST);
+  glUseProgram(program);
+  glUniform1i(glGetUniformLocation(program, "u_radiance"), 0);
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+  Image<uint8_t> out;
+  out.width = w;
+  out.height = h;
+  out.data.resize(radiance.data.size());
+  glReadBuffer(GL_COLOR_ATTACHMENT0);
+  glReadPixels(0, 0, w, h, GL_RED, GL_UNSIGNED_BYTE, out.data.data());
+  // Back to the renderer's state (Render binds its own framebuffer and program).
+  glBindVertexArray(0);
+  glEnable(GL_DEPTH_TEST);
+  glViewport(0, 0, options_.intrinsics.width, options_.intrinsics.height);
+  glDeleteVertexArrays(1, &vao);
+  glDeleteRenderbuffers(1, &color);
+  glDeleteFramebuffers(1, &framebuffer);
+  glDeleteTextures(1, &texture);
+  glDeleteProgram(program);
+  CheckGl("8-bit conversion");
+  return out;
 }
 
 int Renderer::AddMesh(const aar_geometry::TriangleMesh& mesh, Label label, Surface surface) {
@@ -359,9 +508,39 @@ int Renderer::AddMesh(const aar_geometry::TriangleMesh& mesh, Label label, Surfa
   return static_cast<int>(gl_->meshes.size()) - 1;
 }
 
+void Renderer::DrawBackground(const Eigen::Isometry3d& T_tanker_optical) {
+  const CameraIntrinsics& k = options_.intrinsics;
+  const SceneOptions& sc = options_.scene;
+  const GLuint p = gl_->background_program;
+  glUseProgram(p);
+  glUniform4f(glGetUniformLocation(p, "u_intrinsics"), static_cast<float>(k.fx),
+              static_cast<float>(k.fy), static_cast<float>(k.cx), static_cast<float>(k.cy));
+  glUniform1f(glGetUniformLocation(p, "u_height"), static_cast<float>(k.height));
+  const Eigen::Matrix3f R = T_tanker_optical.linear().cast<float>();
+  glUniformMatrix3fv(glGetUniformLocation(p, "u_tanker_from_optical"), 1, GL_FALSE, R.data());
+  const Eigen::Vector3f o = T_tanker_optical.translation().cast<float>();
+  glUniform3f(glGetUniformLocation(p, "u_camera"), o.x(), o.y(), o.z());
+  glUniform1f(glGetUniformLocation(p, "u_sky"), static_cast<float>(options_.sky_level / 255.0));
+  // The mesh shader's shade of a level surface facing up, so ground and aircraft match.
+  const double up = std::abs(options_.sun_in_tanker.normalized().z());
+  glUniform1f(glGetUniformLocation(p, "u_shade"), static_cast<float>(0.45 + 0.55 * up));
+  glUniform1i(glGetUniformLocation(p, "u_kind"), static_cast<int>(sc.background));
+  glUniform1f(glGetUniformLocation(p, "u_ground_z"), static_cast<float>(-sc.background_altitude_m));
+  glUniform1f(glGetUniformLocation(p, "u_cloud_z"), static_cast<float>(-sc.cloud_altitude_m));
+  glUniform1f(glGetUniformLocation(p, "u_coverage"), static_cast<float>(sc.cloud_coverage));
+  glUniform1f(glGetUniformLocation(p, "u_cloud_min_range"),
+              static_cast<float>(sc.cloud_min_range_m));
+  glUniform1f(glGetUniformLocation(p, "u_visibility"), static_cast<float>(sc.visibility_m));
+  glDepthMask(GL_FALSE);
+  glBindVertexArray(gl_->background_vao);
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+  glBindVertexArray(0);
+  glDepthMask(GL_TRUE);
+}
+
 RenderedView Renderer::Render(const Eigen::Isometry3d& T_tanker_optical,
-                              const std::vector<DrawItem>& items, uint64_t view_key,
-                              bool want_label, bool want_depth) {
+                              const std::vector<DrawItem>& items, bool want_label,
+                              bool want_depth) {
   const CameraIntrinsics& k = options_.intrinsics;
   CurrentContext current(*gl_);
   glBindFramebuffer(GL_FRAMEBUFFER, gl_->framebuffer);
@@ -372,6 +551,7 @@ RenderedView Renderer::Render(const Eigen::Isometry3d& T_tanker_optical,
   glClearBufferuiv(GL_COLOR, 1, background);
   glClearBufferfv(GL_COLOR, 2, no_depth);
   glClear(GL_DEPTH_BUFFER_BIT);
+  if (gl_->background_program) DrawBackground(T_tanker_optical);
 
   glUseProgram(gl_->program);
   const GLint u_optical = glGetUniformLocation(gl_->program, "u_optical_from_object");
@@ -424,24 +604,10 @@ RenderedView Renderer::Render(const Eigen::Isometry3d& T_tanker_optical,
                   &flipped[static_cast<size_t>(k.height - 1 - v) * k.width], k.width * sizeof(T));
     }
   };
-  read(GL_COLOR_ATTACHMENT0, GL_RED, GL_UNSIGNED_BYTE, view.image);
+  read(GL_COLOR_ATTACHMENT0, GL_RED, GL_FLOAT, view.radiance);
   if (want_label) read(GL_COLOR_ATTACHMENT1, GL_RED_INTEGER, GL_UNSIGNED_BYTE, view.label);
   if (want_depth) read(GL_COLOR_ATTACHMENT2, GL_RED, GL_FLOAT, view.depth);
   CheckGl("render");
-
-  if (options_.noise_stddev > 0.0) {
-    // One stream per (seed, view): reproducible whatever order views are rendered in.
-    std::mt19937_64 rng(options_.noise_seed * 0x9E3779B97F4A7C15ull ^
-                        (view_key + 1) * 0xD1B54A32D192ED03ull);
-    const std::vector<float>& normal = NormalTable();
-    const float sigma = static_cast<float>(options_.noise_stddev);
-    uint64_t bits = 0;
-    for (size_t i = 0; i < view.image.data.size(); ++i) {
-      if (i % 4 == 0) bits = rng();
-      const float v = view.image.data[i] + sigma * normal[(bits >> (16 * (i % 4))) & 0xffffu];
-      view.image.data[i] = static_cast<uint8_t>(std::clamp(std::lround(v), 0L, 255L));
-    }
-  }
   return view;
 }
 

@@ -58,6 +58,7 @@ Image<T> Crop(const Image<T>& image, const Eigen::Vector2i& margin) {
 }
 
 void CropView(RenderedView& view, const Eigen::Vector2i& margin) {
+  view.radiance = Crop(view.radiance, margin);
   view.image = Crop(view.image, margin);
   view.label = Crop(view.label, margin);
   view.depth = Crop(view.depth, margin);
@@ -83,6 +84,14 @@ World::World(const WorldOptions& options)
       view_margin_(ViewMargin(raw_left_.get(), raw_right_.get())),
       renderer_(WithRigIntrinsics(options.renderer, options.rig, view_margin_)) {
   options_.renderer.intrinsics = options_.rig.intrinsics;
+  options_.sensor.Validate();
+  for (const Eigen::Vector3d& p : receiver_.vertices) receiver_box_.extend(p);
+  for (const auto& link : boom_.links) {
+    Eigen::AlignedBox3d box;
+    for (const auto& visual : link.visuals)
+      for (const Eigen::Vector3d& p : visual.mesh.vertices) box.extend(visual.T_link_geometry * p);
+    if (!box.isEmpty()) link_boxes_.emplace_back(link.name, box);
+  }
   receiver_handle_ = renderer_.AddMesh(receiver_, Label::kReceiver, Surface::kAircraftPaint);
   for (const auto& link : boom_.links) {
     for (const auto& visual : link.visuals) {
@@ -97,7 +106,7 @@ World::World(const WorldOptions& options)
 }
 
 StereoFrame World::Render(const FlightPathRow& row, const BoomPose& boom, uint64_t frame_index,
-                          bool want_label, bool want_depth) {
+                          bool want_label, bool want_depth, const SceneState* exposure_end) {
   StereoFrame frame;
   frame.T_tanker_receiver = row.T_tanker_receiver();
   frame.boom = boom;
@@ -108,10 +117,31 @@ StereoFrame World::Render(const FlightPathRow& row, const BoomPose& boom, uint64
       items.push_back({e.mesh, frame.T_tanker_links.at(e.link) * e.T_link_geometry});
     }
   }
-  frame.left = renderer_.Render(options_.rig.T_tanker_left_optical, items, 2 * frame_index,
-                                want_label, want_depth);
-  frame.right = renderer_.Render(options_.rig.T_tanker_right_optical(), items, 2 * frame_index + 1,
-                                 want_label, want_depth);
+  // The sensor (sensor.h) makes each view's mono8 image from its radiance; motion blur needs the
+  // label and depth too.
+  const SensorOptions& sensor = options_.sensor;
+  const bool blur = sensor.motion_blur && exposure_end;
+  const Eigen::Isometry3d T_tanker_left = options_.rig.T_tanker_left_optical,
+                          T_tanker_right = options_.rig.T_tanker_right_optical();
+  frame.left = renderer_.Render(T_tanker_left, items, want_label || blur, want_depth || blur);
+  frame.right = renderer_.Render(T_tanker_right, items, want_label || blur, want_depth || blur);
+  const double gain = ExposureGain(sensor, frame.left.radiance);  // one for the pair
+  for (int camera = 0; camera < 2; ++camera) {
+    RenderedView& view = camera == 0 ? frame.left : frame.right;
+    ViewMotion motion;
+    if (blur) motion = Motion(camera == 0 ? T_tanker_left : T_tanker_right, frame, *exposure_end);
+    SensorInput input;
+    input.radiance = &view.radiance;
+    input.label = &view.label;
+    input.depth = &view.depth;
+    input.motion = blur ? &motion : nullptr;
+    input.camera = camera;
+    input.view_key = 2 * frame_index + camera;
+    input.exposure_gain = gain;
+    view.image = Expose(sensor, input);
+    if (!want_label) view.label = {};
+    if (!want_depth) view.depth = {};
+  }
   if (raw_left_) {
     frame.left_raw = raw_left_->Distort(frame.left.image);
     frame.right_raw = raw_right_->Distort(frame.right.image);
@@ -119,6 +149,44 @@ StereoFrame World::Render(const FlightPathRow& row, const BoomPose& boom, uint64
     CropView(frame.right, view_margin_);
   }
   return frame;
+}
+
+ViewMotion World::Motion(const Eigen::Isometry3d& T_tanker_optical, const StereoFrame& start,
+                         const SceneState& end) const {
+  ViewMotion motion;
+  motion.intrinsics = renderer_.options().intrinsics;
+  const Eigen::Isometry3d T_optical_tanker = T_tanker_optical.inverse();
+  // A body at T_tanker_body at the start and T_tanker_body_end at the end.
+  auto body = [&](const Eigen::Isometry3d& T_tanker_body,
+                  const Eigen::Isometry3d& T_tanker_body_end, const Eigen::AlignedBox3d& box) {
+    BodyMotion b;
+    b.T_end_start =
+        T_optical_tanker * T_tanker_body_end * T_tanker_body.inverse() * T_tanker_optical;
+    b.T_body_optical = T_tanker_body.inverse() * T_tanker_optical;
+    b.box_in_body = box;
+    return b;
+  };
+  // A label whose bodies all keep still is left out, so that a frame without motion costs nothing;
+  // otherwise every body of it stays in, so that a still link's pixels keep still.
+  const Eigen::Isometry3d T_tanker_receiver_end = end.row.T_tanker_receiver();
+  if (!T_tanker_receiver_end.isApprox(start.T_tanker_receiver, 1e-15)) {
+    motion.bodies.emplace_back(Label::kReceiver,
+                               body(start.T_tanker_receiver, T_tanker_receiver_end, receiver_box_));
+  }
+  if (options_.boom_visible) {
+    const auto T_tanker_links_end =
+        aar_geometry::ComputeLinkPoses(boom_, BoomJointPositions(end.boom));
+    bool moves = false;
+    for (const auto& [link, box] : link_boxes_)
+      moves |= !T_tanker_links_end.at(link).isApprox(start.T_tanker_links.at(link), 1e-15);
+    if (moves) {
+      for (const auto& [link, box] : link_boxes_) {
+        motion.bodies.emplace_back(
+            Label::kBoom, body(start.T_tanker_links.at(link), T_tanker_links_end.at(link), box));
+      }
+    }
+  }
+  return motion;
 }
 
 }  // namespace aar_sim

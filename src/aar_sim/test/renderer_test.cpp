@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 
 #include <opencv2/calib3d.hpp>
@@ -21,7 +22,7 @@ namespace {
 WorldOptions TestWorld(bool boom_visible, double noise = 0.0) {
   WorldOptions o = DefaultWorldOptions(ros::package::getPath("aar_description") + "/models");
   o.rig = MakeStereoRig(CameraIntrinsics::FromHorizontalFov(640, 480, 60.0), 0.5);
-  o.renderer.noise_stddev = noise;
+  o.sensor.noise_stddev = noise;
   o.boom_visible = boom_visible;
   return o;
 }
@@ -37,6 +38,14 @@ FlightPathRow Receiver(double x, double y, double z, double yaw_deg) {
 // image, and the label's extent matches their extent within 2 px. Vertices are checked where the
 // geometry is resolvable: a vertex of a triangle whose projection is at least 1 px thick (a tail
 // seen edge-on at 150 m is thinner than a pixel and covers no pixel centre, as GL specifies).
+// Two renders of the same inputs: the same images, left label and left depth, bit for bit.
+void ExpectSameFrame(const StereoFrame& a, const StereoFrame& b) {
+  EXPECT_EQ(a.left.image.data, b.left.image.data);
+  EXPECT_EQ(a.right.image.data, b.right.image.data);
+  EXPECT_EQ(a.left.label.data, b.left.label.data);
+  EXPECT_EQ(a.left.depth.data, b.left.depth.data);
+}
+
 void CheckProjection(World& world, const FlightPathRow& row, int min_checked) {
   const StereoFrame frame = world.Render(row, DefaultBoomPose(), 0, true, true);
   const StereoRig& rig = world.options().rig;
@@ -179,10 +188,7 @@ TEST(Renderer, SameFrameTwiceIsBitIdentical) {
   const FlightPathRow row = Receiver(-45.0, 1.0, -13.0, 3.0);
   const StereoFrame a = world.Render(row, DefaultBoomPose(), 17, true, true);
   const StereoFrame b = world.Render(row, DefaultBoomPose(), 17, true, true);
-  EXPECT_EQ(a.left.image.data, b.left.image.data);
-  EXPECT_EQ(a.right.image.data, b.right.image.data);
-  EXPECT_EQ(a.left.label.data, b.left.label.data);
-  EXPECT_EQ(a.left.depth.data, b.left.depth.data);
+  ExpectSameFrame(a, b);
   // A second world (a fresh context) renders the same bits too.
   World other(TestWorld(true, 2.0));
   EXPECT_EQ(other.Render(row, DefaultBoomPose(), 17).left.image.data, a.left.image.data);
@@ -267,7 +273,7 @@ TEST(Renderer, TwoRenderersLiveSideBySide) {
   Eigen::Isometry3d T_object = Eigen::Isometry3d::Identity();
   T_object.translation() << 0, 0, 5;  // in front of a camera at the origin looking along z
   const RenderedView view =
-      second.Render(Eigen::Isometry3d::Identity(), {{box, T_object}}, 0, true, false);
+      second.Render(Eigen::Isometry3d::Identity(), {{box, T_object}}, true, false);
   EXPECT_EQ(view.label.at(32, 24), static_cast<uint8_t>(Label::kReceiver));
 }
 
@@ -284,6 +290,84 @@ TEST(Renderer, MissingModelsAndBadIntrinsicsFailClearly) {
   RendererOptions bad;
   bad.intrinsics.width = 0;
   EXPECT_THROW(Renderer{bad}, RenderError);
+}
+
+// Issue 16 background: the lower part of the view (the camera looks 25 deg down) is ground or
+// cloud, labelled and with the optical z of the plane it hits; the same inputs give the same bits;
+// the sky above the horizon stays the plain sky; no cloud nearer than cloud_min_range.
+TEST(Renderer, BackgroundIsLabelledDeterministicAndAtItsDepth) {
+  WorldOptions o = TestWorld(true);
+  o.renderer.scene.background = Background::kTerrain;
+  o.renderer.scene.cloud_coverage = 0.5;
+  o.renderer.scene.cloud_min_range_m = 0.0;
+  World world(o);
+  const FlightPathRow row = Receiver(-45.0, 1.0, -13.0, 3.0);
+  const StereoFrame a = world.Render(row, DefaultBoomPose(), 3, true, true);
+  const StereoFrame b = world.Render(row, DefaultBoomPose(), 3, true, true);
+  ExpectSameFrame(a, b);
+
+  const StereoRig& rig = world.options().rig;
+  const CameraIntrinsics& k = rig.intrinsics;
+  const SceneOptions& sc = o.renderer.scene;
+  int ground = 0, cloud = 0, sky = 0, checked = 0;
+  for (int v = 0; v < k.height; ++v) {
+    for (int u = 0; u < k.width; ++u) {
+      const auto label = static_cast<Label>(a.left.label.at(u, v));
+      const Eigen::Vector3d d = rig.T_tanker_left_optical.linear() *
+                                Eigen::Vector3d((u - k.cx) / k.fx, (v - k.cy) / k.fy, 1.0);
+      const Eigen::Vector3d c = rig.T_tanker_left_optical.translation();
+      if (label == Label::kBackground) {
+        ++sky;
+        EXPECT_GE(d.z(), -1e-5) << u << "," << v;  // empty sky only above the horizon
+        EXPECT_EQ(a.left.image.at(u, v), 200);
+        continue;
+      }
+      if (label != Label::kGround && label != Label::kCloud) continue;
+      ASSERT_LT(d.z(), 0.0) << u << "," << v;
+      const double plane =
+          label == Label::kGround ? -sc.background_altitude_m : -sc.cloud_altitude_m;
+      const double z = (plane - c.z()) / d.z();
+      EXPECT_NEAR(a.left.depth.at(u, v), z, 1e-3 * z) << u << "," << v;
+      ++checked;
+      (label == Label::kGround ? ground : cloud)++;
+    }
+  }
+  // Bottom row: all background classes or the aircraft, never empty sky.
+  for (int u = 0; u < k.width; ++u) EXPECT_NE(a.left.label.at(u, k.height - 1), 0) << u;
+  EXPECT_GT(ground, 10000) << cloud << " " << sky;
+  EXPECT_GT(cloud, 10000) << ground << " " << sky;
+
+  // Clouds only beyond their minimum range: a range beyond the view leaves none.
+  o.renderer.scene.cloud_min_range_m = 1e6;
+  World far(o);
+  const StereoFrame f = far.Render(row, DefaultBoomPose(), 3, true, false);
+  EXPECT_EQ(std::count(f.left.label.data.begin(), f.left.label.data.end(),
+                       static_cast<uint8_t>(Label::kCloud)),
+            0);
+}
+
+// With the background off (the default), nothing of it is drawn: only sky, receiver and boom.
+TEST(Renderer, BackgroundOffDrawsOnlyThePlainSky) {
+  WorldOptions o = TestWorld(true);
+  o.renderer.scene.cloud_coverage = 0.7;  // ignored without a background
+  World world(o), plain(TestWorld(true));
+  const FlightPathRow row = Receiver(-45.0, 1.0, -13.0, 3.0);
+  const StereoFrame a = world.Render(row, DefaultBoomPose(), 3, true, true);
+  const StereoFrame b = plain.Render(row, DefaultBoomPose(), 3, true, true);
+  EXPECT_EQ(a.left.image.data, b.left.image.data);
+  for (uint8_t l : a.left.label.data) ASSERT_LE(l, static_cast<uint8_t>(Label::kBoom));
+}
+
+TEST(Renderer, BadBackgroundOptionsAreRefused) {
+  WorldOptions o = TestWorld(true);
+  o.renderer.scene.background = Background::kSea;
+  o.renderer.scene.cloud_altitude_m = 4000.0;  // below the sea
+  try {
+    World world(o);
+    FAIL() << "cloud layer below the ground accepted";
+  } catch (const std::exception& e) {
+    EXPECT_NE(std::string(e.what()).find("cloud_altitude"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace

@@ -1,10 +1,17 @@
 // bench_render: stereo pairs rendered per second at the configured resolution, along the default
-// approach (far, mid and near frames), images only and with label + depth read back.
+// approach (far, mid and near frames): images only, with label + depth read back, and with every
+// sensor effect on (config/realism/sensor.yaml's values: shot and read noise, motion blur over
+// 2 ms with the path's motion, gain mismatch, auto-exposure) side by side with them off.
 //   bench_render FLIGHT_PATH [PAIRS_PER_POINT]
+// AAR_BENCH_NOISE: the read noise of the first two columns [grey levels] (default 2).
+// AAR_BENCH_SCENE=1 adds two columns with the issue-16 background on (terrain, clouds 0.4: the
+// config/realism/background.yaml preset): alone, and with the sensor effects (all that is on so
+// far), rendered in the same run.
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <iostream>
+#include <memory>
 #include <string>
 
 #include <aar_description/boom_model.h>
@@ -22,28 +29,57 @@ int main(int argc, char** argv) {
   try {
     aar_sim::WorldOptions options =
         aar_sim::DefaultWorldOptions(ros::package::getPath("aar_description") + "/models");
-    options.renderer.noise_stddev =
+    options.sensor.noise_stddev =
         std::getenv("AAR_BENCH_NOISE") ? std::stod(std::getenv("AAR_BENCH_NOISE")) : 2.0;
     aar_sim::World world(options);
+    aar_sim::WorldOptions realistic = options;  // config/realism/sensor.yaml
+    aar_sim::SensorOptions& sensor = realistic.sensor;
+    sensor.noise_stddev = 2.0;
+    sensor.full_well = 10000.0;
+    sensor.motion_blur = true;
+    sensor.exposure_time = 0.002;
+    sensor.gain_mismatch = 0.03;
+    sensor.auto_exposure = true;
+    aar_sim::World sensed(realistic);
+    const bool scene = std::getenv("AAR_BENCH_SCENE") != nullptr;
+    std::unique_ptr<aar_sim::World> scene_world, scene_sensed;
+    if (scene) {
+      aar_sim::WorldOptions o = options;
+      o.renderer.scene.background = aar_sim::Background::kTerrain;
+      o.renderer.scene.cloud_coverage = 0.4;
+      scene_world = std::make_unique<aar_sim::World>(o);
+      o.sensor = realistic.sensor;
+      scene_sensed = std::make_unique<aar_sim::World>(o);
+    }
     const auto path = aar_sim::FlightPath::Load(path_file);
     std::printf("renderer: %s, %dx%d, %d pairs per point\n", world.renderer().gl_renderer().c_str(),
                 options.rig.intrinsics.width, options.rig.intrinsics.height, pairs);
-    std::printf("%10s %12s %16s %22s\n", "range [m]", "t [s]", "pairs/s (images)",
-                "pairs/s (+label+depth)");
+    std::printf("%10s %12s %16s %22s %18s%s\n", "range [m]", "t [s]", "pairs/s (images)",
+                "pairs/s (+label+depth)", "pairs/s (+sensor)",
+                scene ? " pairs/s (+scene) (+scene+sensor)" : "");
     for (double fraction : {0.0, 0.5, 0.8, 1.0}) {
       const double t = path.start_time() + fraction * (path.end_time() - path.start_time());
       const auto row = path.At(t);
-      double rate[2];
-      for (int extra = 0; extra < 2; ++extra) {
-        world.Render(row, aar_description::DefaultBoomPose(), 0, extra,
-                     extra);  // warm-up (shader JIT)
+      const aar_sim::BoomPose boom = row.boom.value_or(aar_description::DefaultBoomPose());
+      const auto row_end = path.At(t + sensor.exposure_time);
+      const aar_sim::SceneState end{row_end,
+                                    row_end.boom.value_or(aar_description::DefaultBoomPose())};
+      aar_sim::World* worlds[5] = {&world, &world, &sensed, scene_world.get(), scene_sensed.get()};
+      double rate[5] = {0, 0, 0, 0, 0};
+      for (int column = 0; column < (scene ? 5 : 3); ++column) {
+        aar_sim::World& w = *worlds[column];
+        const bool extra = column == 1;
+        const aar_sim::SceneState* exposure_end = column == 2 || column == 4 ? &end : nullptr;
+        w.Render(row, boom, 0, extra, extra, exposure_end);  // warm-up (shader JIT)
         const auto start = std::chrono::steady_clock::now();
-        for (int i = 0; i < pairs; ++i)
-          world.Render(row, aar_description::DefaultBoomPose(), i, extra, extra);
-        rate[extra] =
+        for (int i = 0; i < pairs; ++i) w.Render(row, boom, i, extra, extra, exposure_end);
+        rate[column] =
             pairs / std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       }
-      std::printf("%10.1f %12.1f %16.1f %22.1f\n", row.position_m.norm(), t, rate[0], rate[1]);
+      std::printf("%10.1f %12.1f %16.1f %22.1f %18.1f", row.position_m.norm(), t, rate[0], rate[1],
+                  rate[2]);
+      if (scene) std::printf(" %16.1f %15.1f", rate[3], rate[4]);
+      std::printf("\n");
     }
   } catch (const std::exception& e) {
     std::fprintf(stderr, "bench_render: %s\n", e.what());

@@ -5,8 +5,12 @@
 // profile, wander and boom motion drawn from SEED; its settings are printed as one CSV line
 // (seed,elevation_deg,azimuth_deg,far_speed,mid_speed,near_speed,position_wander_m,
 // attitude_wander_deg,boom_swing). With --receiver, the approach of that receiver (a receiver
-// description with a receptacle, e.g. MODELS_DIR/rq4.yaml); default: the C-12.
-//   generate_approach [--receiver DESCRIPTION] MODELS_DIR FLIGHT_PATH_CSV [SEED]
+// description with a receptacle, e.g. MODELS_DIR/rq4.yaml); default: the C-12. With
+// --turbulence light|moderate|severe, the path and the boom perturbed by Dryden turbulence
+// (aar_sim::Turbulence at its default airspeed and altitude, seeded by --turbulence-seed N,
+// default 1; docs/realism/turbulence.md): the CSV then has boom columns.
+//   generate_approach [--receiver DESCRIPTION] [--turbulence LEVEL] [--turbulence-seed N]
+//                     MODELS_DIR FLIGHT_PATH_CSV [SEED]
 #include <filesystem>
 #include <iostream>
 #include <string>
@@ -16,22 +20,54 @@
 #include <aar_geometry/robot_model.h>
 
 #include "aar_sim/approach.h"
+#include "aar_sim/turbulence.h"
+
+namespace {
+
+bool IsWholeNumber(const std::string& s) {
+  return !s.empty() && s.size() <= 18 && s.find_first_not_of("0123456789") == std::string::npos;
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   std::string receiver;
-  if (argc >= 2 && std::string(argv[1]) == "--receiver") {
-    if (argc < 3) {
-      std::cerr << "generate_approach: --receiver needs a receiver description\n";
+  aar_sim::TurbulenceOptions turbulence;
+  while (argc >= 2 && std::string(argv[1]).rfind("--", 0) == 0) {
+    const std::string flag = argv[1];
+    if (flag != "--receiver" && flag != "--turbulence" && flag != "--turbulence-seed") {
+      std::cerr << "generate_approach: unknown option " << flag << "\n";
       return 2;
     }
-    receiver = argv[2];
+    if (argc < 3) {
+      std::cerr << "generate_approach: " << flag << " needs a value\n";
+      return 2;
+    }
+    const std::string value = argv[2];
+    if (flag == "--receiver") {
+      receiver = value;
+    } else if (flag == "--turbulence") {
+      if (value != "light" && value != "moderate" && value != "severe") {
+        std::cerr << "generate_approach: --turbulence must be light, moderate or severe, not '"
+                  << value << "'\n";
+        return 2;
+      }
+      turbulence.intensity = aar_sim::ParseTurbulenceIntensity(value);
+    } else {
+      if (!IsWholeNumber(value)) {
+        std::cerr << "generate_approach: --turbulence-seed must be a whole number, not '" << value
+                  << "'\n";
+        return 2;
+      }
+      turbulence.seed = std::stoull(value);
+    }
     argv[2] = argv[0];
     argc -= 2;
     argv += 2;
   }
   if (argc != 3 && argc != 4) {
-    std::cerr << "usage: generate_approach [--receiver DESCRIPTION] MODELS_DIR FLIGHT_PATH_CSV "
-                 "[SEED]\n";
+    std::cerr << "usage: generate_approach [--receiver DESCRIPTION] [--turbulence LEVEL] "
+                 "[--turbulence-seed N] MODELS_DIR FLIGHT_PATH_CSV [SEED]\n";
     return 2;
   }
   const std::string dir = argv[1];
@@ -39,8 +75,7 @@ int main(int argc, char** argv) {
   aar_sim::ApproachOptions options;
   if (argc == 4) {
     const std::string seed = argv[3];
-    if (seed.empty() || seed.size() > 18 ||
-        seed.find_first_not_of("0123456789") != std::string::npos) {
+    if (!IsWholeNumber(seed)) {
       std::cerr << "generate_approach: SEED must be a whole number, not '" << seed << "'\n";
       return 2;
     }
@@ -64,7 +99,19 @@ int main(int argc, char** argv) {
     const auto poses = aar_geometry::ComputeLinkPoses(
         model, aar_description::BoomJointPositions(aar_description::DefaultBoomPose()));
     const Eigen::Vector3d tip = poses.at("nozzle_tip").translation();
-    const auto rows = aar_sim::GenerateApproach(options, tip);
+    auto rows = aar_sim::GenerateApproach(options, tip);
+    if (turbulence.intensity != aar_sim::TurbulenceIntensity::kNone) {
+      // The gusts at each row's time; the boom's pitch and roll within the URDF's limits.
+      const aar_sim::Turbulence gusts(turbulence, rows.back().t);
+      for (aar_sim::FlightPathRow& row : rows) {
+        const auto boom = row.boom.value_or(aar_description::DefaultBoomPose());
+        auto [perturbed, perturbed_boom] = gusts.Apply(row.t, row, boom, model.joints);
+        perturbed.boom = perturbed_boom;
+        row = perturbed;
+      }
+      std::cout << aar_sim::TurbulenceIntensityName(turbulence.intensity) << " turbulence, seed "
+                << turbulence.seed << ", sigma " << gusts.sigma() << " m/s\n";
+    }
     aar_sim::WriteFlightPath(csv, rows);
     std::cout << "wrote " << csv << " (" << rows.size() << " rows, " << rows.back().t
               << " s, contact range " << rows.back().position_m.norm() << " m)\n";

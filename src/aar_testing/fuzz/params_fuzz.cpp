@@ -174,7 +174,10 @@ void LoadEveryNode(const XmlRpcValue& tree) {
                    std::isfinite(rig.intrinsics.fx) && std::isfinite(rig.intrinsics.cx),
                "the simulator accepted a rig that is not finite");
     for (const double v : {o.rate, o.start_time, o.lockstep_timeout, o.start_delay, o.stamp_offset,
-                           o.world.renderer.noise_stddev, o.world.renderer.sky_level})
+                           o.world.sensor.noise_stddev, o.world.renderer.sky_level,
+                           o.world.sensor.full_well, o.world.sensor.exposure_time,
+                           o.world.sensor.gain_mismatch, o.world.sensor.exposure_target,
+                           o.world.sensor.exposure_gain_min, o.world.sensor.exposure_gain_max})
       FUZZ_CHECK(std::isfinite(v), "the simulator accepted a setting that is not finite");
   } catch (const std::invalid_argument&) {
   }

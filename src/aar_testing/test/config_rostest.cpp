@@ -114,6 +114,20 @@ TEST(Config, EveryCameraMountLoadsIntoTheSim) {
   EXPECT_EQ(mounts, 1);
 }
 
+// The turbulence preset loads into the simulator over config/sim.yaml and turns on moderate
+// turbulence; config/sim.yaml alone keeps it off (the ideal world).
+TEST(Config, TurbulencePresetLoadsIntoTheSim) {
+  try {
+    const auto base = aar_sim::LoadSimNodeOptions(ros::NodeHandle("/sim"));
+    EXPECT_EQ(base.turbulence.intensity, aar_sim::TurbulenceIntensity::kNone);
+    const auto sim = aar_sim::LoadSimNodeOptions(ros::NodeHandle("/realism_turbulence/sim"));
+    EXPECT_EQ(sim.turbulence.intensity, aar_sim::TurbulenceIntensity::kModerate);
+    EXPECT_NO_THROW(aar_sim::CheckTurbulenceOptions(sim.turbulence));
+  } catch (const std::exception& e) {
+    ADD_FAILURE() << "realism/turbulence.yaml: " << e.what();
+  }
+}
+
 TEST(Config, StereoAndEvalLoadAsTheLaunchFilesGiveThem) {
   try {
     const auto stereo = aar_stereo::LoadStereoNodeOptions(ros::NodeHandle("/stereo/aar_stereo"));
@@ -136,6 +150,47 @@ TEST(Config, StereoAndEvalLoadAsTheLaunchFilesGiveThem) {
     EXPECT_NE(std::string(e.what()).find("/stereo/aar_stereo/block_sise"), std::string::npos)
         << e.what();
   }
+}
+
+// Every realism preset in config/realism/ loads into the simulator over config/sim.yaml, as
+// pipeline.launch's sim_config loads it. config/sim.yaml's sensor is the ideal camera
+// (docs/realism/sensor.md); realism/sensor.yaml turns each sensor effect on.
+TEST(Config, EveryRealismPresetLoadsIntoTheSim) {
+  try {
+    const aar_sim::SensorOptions ideal,
+        s = aar_sim::LoadSimNodeOptions(ros::NodeHandle("/sim")).world.sensor;
+    EXPECT_EQ(s.noise_stddev, ideal.noise_stddev);
+    EXPECT_EQ(s.full_well, ideal.full_well);
+    EXPECT_EQ(s.motion_blur, ideal.motion_blur);
+    EXPECT_EQ(s.gain_mismatch, ideal.gain_mismatch);
+    EXPECT_EQ(s.auto_exposure, ideal.auto_exposure);
+  } catch (const std::exception& e) {
+    ADD_FAILURE() << e.what();
+  }
+  const std::string dir = aar_testing::ConfigDir() + "/realism";
+  int presets = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(dir)) {
+    if (entry.path().extension() != ".yaml") continue;
+    const std::string name = entry.path().stem().string();
+    ++presets;
+    ros::NodeHandle root("/realism_" + name);
+    ASSERT_TRUE(root.hasParam("sim")) << name << ": not loaded by config.test (add it there)";
+    try {
+      const auto sim = aar_sim::LoadSimNodeOptions(ros::NodeHandle(root, "sim"));
+      if (name == "sensor") {  // EXPECT_* is an if-else inside
+        const aar_sim::SensorOptions& s = sim.world.sensor;
+        EXPECT_EQ(s.noise_stddev, 2.0);
+        EXPECT_EQ(s.full_well, 10000.0);
+        EXPECT_TRUE(s.motion_blur);
+        EXPECT_EQ(s.exposure_time, 0.002);
+        EXPECT_EQ(s.gain_mismatch, 0.03);
+        EXPECT_TRUE(s.auto_exposure);
+      }
+    } catch (const std::exception& e) {
+      ADD_FAILURE() << "preset " << name << ": " << e.what();
+    }
+  }
+  EXPECT_GE(presets, 1);
 }
 
 // config/sim.yaml's raw cameras: off by default (rectified pinhole images), and its lens values
@@ -186,6 +241,41 @@ TEST(Config, SimRawCamerasOffByDefaultLensesAsDocumented) {
     EXPECT_NEAR(aar_sim::LoadSimNodeOptions(raw).world.raw.left.rotation_deg.y(), 1.0, 1e-12);
   } catch (const std::exception& e) {
     ADD_FAILURE() << e.what();
+  }
+}
+
+// Issue 16 scene keys: off by default (the ideal world), the background preset turns terrain and
+// clouds on, and bad values are refused naming the key.
+TEST(Config, SceneBackgroundOffByDefaultPresetLoadsBadValuesRefused) {
+  try {
+    const auto sim = aar_sim::LoadSimNodeOptions(ros::NodeHandle("/sim"));
+    EXPECT_EQ(sim.world.renderer.scene.background, aar_sim::Background::kNone);
+    const auto preset = aar_sim::LoadSimNodeOptions(ros::NodeHandle("/realism_background/sim"));
+    EXPECT_EQ(preset.world.renderer.scene.background, aar_sim::Background::kTerrain);
+    EXPECT_GT(preset.world.renderer.scene.cloud_coverage, 0.0);
+  } catch (const std::exception& e) {
+    ADD_FAILURE() << e.what();
+  }
+  ros::NodeHandle bad("/sim_scene_bad");
+  std::string path;
+  ros::NodeHandle("/sim").getParam("flight_path", path);
+  bad.setParam("flight_path", path);
+  for (const auto& [key, value, text] :
+       std::vector<std::tuple<std::string, XmlRpc::XmlRpcValue, std::string>>{
+           {"background", XmlRpc::XmlRpcValue("desert"), "/sim_scene_bad/background must be"},
+           {"background_altitude", XmlRpc::XmlRpcValue(-1.0), "/sim_scene_bad/background_altitude"},
+           {"visibility", XmlRpc::XmlRpcValue(0.0), "/sim_scene_bad/visibility"},
+           {"cloud_coverage", XmlRpc::XmlRpcValue(1.5), "/sim_scene_bad/cloud_coverage"},
+           {"cloud_altitude", XmlRpc::XmlRpcValue(5000.0), "/sim_scene_bad/cloud_altitude"},
+           {"cloud_min_range", XmlRpc::XmlRpcValue(-3.0), "/sim_scene_bad/cloud_min_range"}}) {
+    bad.setParam(key, value);
+    try {
+      aar_sim::LoadSimNodeOptions(bad);
+      ADD_FAILURE() << key << " was accepted";
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find(text), std::string::npos) << e.what();
+    }
+    bad.deleteParam(key);
   }
 }
 

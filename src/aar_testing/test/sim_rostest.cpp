@@ -20,6 +20,7 @@
 #include <aar_description/boom_model.h>
 #include "aar_sim/flight_path.h"
 #include "aar_sim/ros/sim_node.h"
+#include "aar_sim/turbulence.h"
 #include "aar_testing/paths.h"
 #include "aar_testing/stamped_collector.h"
 #include "aar_testing/wait.h"
@@ -106,6 +107,62 @@ TEST(Sim, StereoPairsCameraInfosAndTruth) {
   ASSERT_EQ(js->name.size(), 3u);
 }
 
+// With turbulence (sim_turbulence.test: moderate, seed 3), the published truth and joint states
+// are the path perturbed by aar_sim::Turbulence at the frame's time: decimetres off the path,
+// the boom off its static pose and within its limits.
+TEST(SimTurbulence, TruthIsThePerturbedPath) {
+  ros::NodeHandle nh, pnh("~");
+  Collector<sensor_msgs::Image> left(nh, "stereo/left/image_rect");
+  Collector<sensor_msgs::JointState> joints(nh, "joint_states");
+  tf2_ros::Buffer tf_buffer;
+  tf2_ros::TransformListener tf_listener(tf_buffer);
+  aar_testing::WaitFor([&] { return left.size() >= 4 && joints.size() >= 4; }, 60.0);
+  ros::WallDuration(0.5).sleep();  // let tf catch up with the last frames
+  ASSERT_GE(joints.size(), 4u) << "fewer than 4 frames in 60 s";
+
+  std::string path_file;
+  ASSERT_TRUE(pnh.getParam("flight_path", path_file));
+  aar_geometry::RobotModelOptions urdf_options;
+  const auto boom_model = aar_geometry::LoadRobotModel(
+      ros::package::getPath("aar_description") + "/models/boom.urdf", urdf_options);
+  const FlightPath path = FlightPath::Load(path_file);
+  TurbulenceOptions options;
+  options.intensity = TurbulenceIntensity::kModerate;
+  options.seed = 3;
+  const Turbulence turbulence(options, path.end_time());
+  int checked = 0;
+  double max_offset = 0.0, max_boom = 0.0;
+  std::lock_guard<std::mutex> lock(joints.mutex);
+  for (const auto& [stamp, js] : joints.by_stamp) {
+    const double t = stamp.toSec() - 1.0;
+    const FlightPathRow row = path.At(t);
+    const auto [expected_row, expected_boom] =
+        turbulence.Apply(t, row, row.boom.value_or(DefaultBoomPose()), boom_model.joints);
+    const auto truth =
+        tf_buffer.lookupTransform("tanker", "receiver_truth", stamp, ros::Duration(1.0));
+    const Eigen::Isometry3d T = tf2::transformToEigen(truth);
+    const Eigen::Isometry3d expected = expected_row.T_tanker_receiver();
+    EXPECT_LT((T.translation() - expected.translation()).norm(), 1e-6) << t;
+    EXPECT_LT(Eigen::AngleAxisd(T.linear().transpose() * expected.linear()).angle(), 1e-6) << t;
+    max_offset = std::max(max_offset, (T.translation() - row.position_m).norm());
+    const std::map<std::string, double> want = BoomJointPositions(expected_boom);
+    ASSERT_EQ(js->name.size(), want.size());
+    for (size_t i = 0; i < js->name.size(); ++i) {
+      EXPECT_NEAR(js->position[i], want.at(js->name[i]), 1e-9) << js->name[i] << " at " << t;
+      for (const auto& joint : boom_model.joints) {
+        if (joint.name == js->name[i]) {
+          EXPECT_TRUE(joint.WithinLimits(js->position[i])) << joint.name;
+        }
+      }
+    }
+    max_boom = std::max(max_boom, std::abs(expected_boom.pitch - DefaultBoomPose().pitch));
+    ++checked;
+  }
+  EXPECT_GE(checked, 4);
+  EXPECT_GT(max_offset, 0.02);  // [m] moderate: decimetres
+  EXPECT_GT(max_boom, 0.01 * M_PI / 180.0);
+}
+
 TEST(Sim, ShippedYamlLoads) {
   const SimNodeOptions o = LoadSimNodeOptions(ros::NodeHandle("/yaml_check"));
   EXPECT_EQ(o.world.rig.intrinsics.width, 1280);
@@ -155,6 +212,8 @@ TEST(Sim, BadInputExitsNonZeroNamingTheProblem) {
   EXPECT_EQ(RunSim("__name:=early _flight_path:=" + path + " _start_time:=-5.0", &log), 1);
   EXPECT_NE(log.find("start_time -5.000000 s is outside the flight path"), std::string::npos)
       << log;
+  EXPECT_EQ(RunSim("__name:=stopped _flight_path:=" + path + " _realtime_factor:=0.0", &log), 1);
+  EXPECT_NE(log.find("realtime_factor must be above 0 and at most 100"), std::string::npos) << log;
   // No EGL vendor library: as on a machine without Mesa's or a GPU's EGL.
   EXPECT_EQ(RunSim("__name:=no_egl _flight_path:=" + path, &log,
                    "__EGL_VENDOR_LIBRARY_FILENAMES=/nonexistent.json"),

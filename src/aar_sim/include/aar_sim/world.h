@@ -11,6 +11,7 @@
 #include "aar_sim/flight_path.h"
 #include "aar_sim/raw_camera.h"
 #include "aar_sim/renderer.h"
+#include "aar_sim/sensor.h"
 
 namespace aar_sim {
 
@@ -22,12 +23,19 @@ struct WorldOptions {
   RendererOptions renderer;  // intrinsics are taken from the rig
   bool boom_visible = true;
   RawCameraOptions raw;  // enabled: also the raw (distorted, unrectified) images
+  SensorOptions sensor;  // radiance to mono8 (defaults: the ideal camera)
 };
 
 // The shipped world: the C-12 (c12.yaml) and boom.urdf from `models_dir` (aar_description's
 // models/, whose parent's parent holds aar_description for package:// look-ups) and the default rig
 // (1280x960, 60 deg, 0.5 m baseline, DESIGN.md mount). Renderer options stay at their defaults.
 WorldOptions DefaultWorldOptions(const std::string& models_dir);
+
+// The scene at a time: the receiver's path row and the boom's pose.
+struct SceneState {
+  FlightPathRow row;
+  BoomPose boom;
+};
 
 // One rendered stereo pair with the truth that produced it.
 struct StereoFrame {
@@ -43,11 +51,15 @@ struct StereoFrame {
 class World {
  public:
   // Throws aar_geometry::LoadError for a model that does not load or fails the receiver checks
-  // (aar_description::LoadReceiverMesh), RenderError without EGL.
+  // (aar_description::LoadReceiverMesh), RenderError without EGL, std::invalid_argument for
+  // sensor options out of range.
   explicit World(const WorldOptions& options);
 
+  // The pair at (row, boom), the state at the exposure's start (the truth). `exposure_end`: the
+  // state at its end, for motion blur (options.sensor.motion_blur); null: nothing moves.
   StereoFrame Render(const FlightPathRow& row, const BoomPose& boom, uint64_t frame_index,
-                     bool want_label = false, bool want_depth = false);
+                     bool want_label = false, bool want_depth = false,
+                     const SceneState* exposure_end = nullptr);
 
   const WorldOptions& options() const { return options_; }
   const aar_geometry::TriangleMesh& receiver_mesh() const { return receiver_; }
@@ -72,6 +84,11 @@ class World {
   Renderer renderer_;
   int receiver_handle_ = -1;
   std::vector<BoomElement> boom_elements_;
+  // Motion blur: the bodies' boxes in their own frames (receiver; boom links with visuals).
+  Eigen::AlignedBox3d receiver_box_;
+  std::vector<std::pair<std::string, Eigen::AlignedBox3d>> link_boxes_;
+  ViewMotion Motion(const Eigen::Isometry3d& T_tanker_optical, const StereoFrame& start,
+                    const SceneState& end) const;
 };
 
 }  // namespace aar_sim

@@ -1,5 +1,6 @@
 #include "aar_sim/ros/sim_node.h"
 
+#include <optional>
 #include <stdexcept>
 
 #include <aar_ros_common/markers.h>
@@ -21,6 +22,7 @@ SimNode::SimNode(ros::NodeHandle nh, const SimNodeOptions& options)
       options_(options),
       world_(std::make_unique<World>(options.world)),
       path_(FlightPath::Load(options.flight_path, {world_->boom_model().joints})),
+      turbulence_(options.turbulence, path_.end_time()),
       it_(nh) {
   if (options_.start_time < path_.start_time() || options_.start_time > path_.end_time()) {
     throw std::invalid_argument(
@@ -63,6 +65,10 @@ SimNode::SimNode(ros::NodeHandle nh, const SimNodeOptions& options)
               << world_->renderer().gl_renderer() << "; "
               << (options_.lockstep ? "lockstep"
                                     : "free-running at " + std::to_string(options_.rate) + " Hz")
+              << (!options_.lockstep && options_.realtime_factor != 1.0
+                      ? " of path time, " + std::to_string(options_.realtime_factor) +
+                            " path seconds per wall second"
+                      : "")
               << (options_.world.boom_visible ? "" : "; boom hidden")
               << (world_->raw_left()
                       ? "; raw distorted images on " + left_pub_.getTopic() + ", " +
@@ -70,6 +76,12 @@ SimNode::SimNode(ros::NodeHandle nh, const SimNodeOptions& options)
                             std::to_string(100.0 * world_->raw_left()->outside_fraction()) +
                             " % of raw pixels beyond the rendered view)"
                       : ""));
+  if (turbulence_.enabled()) {
+    const TurbulenceOptions& t = options_.turbulence;
+    ROS_INFO_STREAM("sim: " << TurbulenceIntensityName(t.intensity) << " turbulence (Dryden, sigma "
+                            << turbulence_.sigma() << " m/s at " << t.altitude << " m, "
+                            << t.airspeed << " m/s; seed " << t.seed << ")");
+  }
 }
 
 SimNode::~SimNode() {
@@ -117,17 +129,24 @@ void SimNode::Loop() {
                           1;
   const int frames =
       options_.max_frames > 0 ? std::min(options_.max_frames, path_frames) : path_frames;
-  const auto period = std::chrono::duration<double>(1.0 / options_.rate);
+  const auto period =
+      std::chrono::duration<double>(1.0 / (options_.rate * options_.realtime_factor));
   auto next = std::chrono::steady_clock::now();
   int misses = 0;
   for (int k = 0; k < frames && !stop_ && ros::ok(); ++k) {
     const double t = options_.start_time + k / options_.rate;
-    const FlightPathRow row = path_.At(t);
-    const BoomPose boom = row.boom.value_or(DefaultBoomPose());
+    const auto [row, boom] = StateAt(t);
     const ros::Time stamp(options_.stamp_offset + t);
+    // Motion blur integrates from t to the exposure's end; the truth is the state at t.
+    std::optional<SceneState> exposure_end;
+    if (options_.world.sensor.motion_blur) {
+      const auto [row_end, boom_end] = StateAt(t + options_.world.sensor.exposure_time);
+      exposure_end = SceneState{row_end, boom_end};
+    }
     StereoFrame frame;
     try {
-      frame = world_->Render(row, boom, static_cast<uint64_t>(k), options_.publish_labels, false);
+      frame = world_->Render(row, boom, static_cast<uint64_t>(k), options_.publish_labels, false,
+                             exposure_end ? &*exposure_end : nullptr);
     } catch (const std::exception& e) {
       throw std::runtime_error("rendering frame " + std::to_string(k) + " failed: " + e.what());
     }
@@ -155,6 +174,12 @@ void SimNode::Loop() {
                   << frames << " frames"
                   << (options_.lockstep ? ", " + std::to_string(misses) + " without an estimate"
                                         : ""));
+}
+
+std::pair<FlightPathRow, BoomPose> SimNode::StateAt(double t) const {
+  const FlightPathRow row = path_.At(t);
+  const BoomPose boom = row.boom.value_or(DefaultBoomPose());
+  return turbulence_.Apply(t, row, boom, world_->boom_model().joints);
 }
 
 void SimNode::PublishFrame(int index, const FlightPathRow& row, const BoomPose& boom,

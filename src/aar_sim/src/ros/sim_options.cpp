@@ -88,16 +88,17 @@ SimNodeOptions LoadSimNodeOptions(aar_ros_common::ParamReader& params) {
   o.world.raw.left = GetLens(params, "left", raw_defaults.left);
   o.world.raw.right = GetLens(params, "right", raw_defaults.right);
 
-  o.world.renderer.noise_stddev = params.Get("noise_stddev", 0.0);
-  o.world.renderer.noise_seed = static_cast<uint64_t>(params.Get("noise_seed", 1));
+  o.world.sensor.noise_stddev = params.Get("noise_stddev", 0.0);
+  o.world.sensor.noise_seed = static_cast<uint64_t>(params.Get("noise_seed", 1));
   o.world.renderer.sky_level = params.Get("sky_level", 200.0);
-  params.Check(o.world.renderer.noise_stddev >= 0.0, "noise_stddev", "must not be negative");
+  params.Check(o.world.sensor.noise_stddev >= 0.0, "noise_stddev", "must not be negative");
 
   o.rate = params.Get("rate", o.rate);
   o.start_time = params.Get("start_time", o.start_time);
   o.max_frames = params.Get("frames", o.max_frames);
   o.lockstep = params.Get("lockstep", o.lockstep);
   o.lockstep_timeout = params.Get("lockstep_timeout", o.lockstep_timeout);
+  o.realtime_factor = params.Get("realtime_factor", o.realtime_factor);
   o.wait_for_subscribers = params.Get("wait_for_subscribers", o.lockstep);
   o.start_delay = params.Get("start_delay", o.start_delay);
   params.Check(o.start_delay >= 0.0, "start_delay", "must not be negative");
@@ -107,7 +108,73 @@ SimNodeOptions LoadSimNodeOptions(aar_ros_common::ParamReader& params) {
   params.Check(o.rate > 0.0, "rate", "must be positive");
   params.Check(o.max_frames >= 0, "frames", "must not be negative");
   params.Check(o.lockstep_timeout > 0.0, "lockstep_timeout", "must be positive");
+  params.Check(o.realtime_factor > 0.0 && o.realtime_factor <= 100.0, "realtime_factor",
+               "must be above 0 and at most 100");
   params.Check(o.stamp_offset > 0.0, "stamp_offset", "must be positive");
+
+  // Scene: background and sun (issue 16, docs/realism/scene.md).
+  {
+    SceneOptions& sc = o.world.renderer.scene;
+    const std::string background = params.Get<std::string>("background", "none");
+    params.Check(background == "none" || background == "sea" || background == "terrain",
+                 "background", "must be none, sea or terrain");
+    sc.background = background == "sea"       ? Background::kSea
+                    : background == "terrain" ? Background::kTerrain
+                                              : Background::kNone;
+    sc.background_altitude_m = params.Get("background_altitude", sc.background_altitude_m);
+    sc.visibility_m = params.Get("visibility", sc.visibility_m);
+    sc.cloud_coverage = params.Get("cloud_coverage", sc.cloud_coverage);
+    sc.cloud_altitude_m = params.Get("cloud_altitude", sc.cloud_altitude_m);
+    sc.cloud_min_range_m = params.Get("cloud_min_range", sc.cloud_min_range_m);
+    params.Check(sc.background_altitude_m > 0.0, "background_altitude", "must be positive");
+    params.Check(sc.visibility_m > 0.0, "visibility", "must be positive");
+    params.Check(sc.cloud_coverage >= 0.0 && sc.cloud_coverage <= 1.0, "cloud_coverage",
+                 "must be in [0, 1]");
+    params.Check(sc.cloud_altitude_m > 0.0 && sc.cloud_altitude_m < sc.background_altitude_m,
+                 "cloud_altitude", "must be positive and below background_altitude");
+    params.Check(sc.cloud_min_range_m >= 0.0, "cloud_min_range", "must not be negative");
+  }
+  // Turbulence (docs/realism/turbulence.md): Dryden gusts moving the receiver and the boom.
+  o.turbulence.intensity =
+      params.GetChoice<TurbulenceIntensity>("turbulence", "none",
+                                            {{"none", TurbulenceIntensity::kNone},
+                                             {"light", TurbulenceIntensity::kLight},
+                                             {"moderate", TurbulenceIntensity::kModerate},
+                                             {"severe", TurbulenceIntensity::kSevere}});
+  const int turbulence_seed = params.Get("turbulence_seed", 1);
+  params.Check(turbulence_seed >= 0, "turbulence_seed", "must not be negative");
+  o.turbulence.seed = static_cast<uint64_t>(turbulence_seed);
+  o.turbulence.airspeed = params.Get("turbulence_airspeed", o.turbulence.airspeed);
+  params.Check(o.turbulence.airspeed > 0.0, "turbulence_airspeed", "must be positive [m/s]");
+  o.turbulence.altitude = params.Get("turbulence_altitude", o.turbulence.altitude);
+  params.Check(o.turbulence.altitude >= 2000 * kFoot && o.turbulence.altitude <= 80000 * kFoot,
+               "turbulence_altitude",
+               "must be from 609.6 to 24384 m (2000 to 80000 ft: the medium/high-altitude model)");
+
+  // Sensor (config/sim.yaml "# Sensor", docs/realism/sensor.md): each effect off by default;
+  // noise_stddev and noise_seed above are its read noise.
+  SensorOptions& sensor = o.world.sensor;
+  sensor.full_well = params.Get("full_well", sensor.full_well);
+  sensor.motion_blur = params.Get("motion_blur", sensor.motion_blur);
+  sensor.exposure_time = params.Get("exposure_time", sensor.exposure_time);
+  sensor.gain_mismatch = params.Get("gain_mismatch", sensor.gain_mismatch);
+  sensor.auto_exposure = params.Get("auto_exposure", sensor.auto_exposure);
+  sensor.exposure_target = params.Get("exposure_target", sensor.exposure_target);
+  sensor.exposure_gain_min = params.Get("exposure_gain_min", sensor.exposure_gain_min);
+  sensor.exposure_gain_max = params.Get("exposure_gain_max", sensor.exposure_gain_max);
+  params.Check(sensor.full_well >= 0.0, "full_well",
+               "must not be negative (electrons of a full pixel; 0: no shot noise)");
+  params.Check(sensor.exposure_time > 0.0, "exposure_time",
+               "must be positive: an exposure of zero (or less) collects no light");
+  params.Check(sensor.exposure_time <= 1.0, "exposure_time",
+               "must be at most 1 s (one frame of a 1 Hz camera)");
+  params.Check(std::abs(sensor.gain_mismatch) < 0.5, "gain_mismatch",
+               "must be within (-0.5, 0.5): the right camera's gain over the left's, minus 1");
+  params.Check(sensor.exposure_target > 0.0 && sensor.exposure_target < 255.0, "exposure_target",
+               "must be in (0, 255) grey levels");
+  params.Check(sensor.exposure_gain_min > 0.0, "exposure_gain_min", "must be positive");
+  params.Check(sensor.exposure_gain_max >= sensor.exposure_gain_min, "exposure_gain_max",
+               "must not be below exposure_gain_min");
 
   params.RejectUnknown();
   return o;

@@ -6,6 +6,7 @@
 #include <mutex>
 #include <string>
 #include <thread>
+#include <utility>
 
 #include <aar_msgs/PoseEstimate.h>
 #include <aar_ros_common/param_reader.h>
@@ -15,18 +16,22 @@
 #include <tf2_ros/transform_broadcaster.h>
 
 #include "aar_sim/flight_path.h"
+#include "aar_sim/turbulence.h"
 #include "aar_sim/world.h"
 
 namespace aar_sim {
 
 struct SimNodeOptions {
-  std::string flight_path;            // required: the receiver's path (CSV)
-  WorldOptions world;                 // models, rig, renderer, boom visibility
-  double rate = 10.0;                 // [Hz] frames per second of path time
-  double start_time = 0.0;            // [s] path time of the first frame
-  int max_frames = 0;                 // 0: to the end of the path
-  bool lockstep = false;              // wait for /aar/pose_estimate of each frame before the next
-  double lockstep_timeout = 5.0;      // [s wall] then go on and count a miss
+  std::string flight_path;        // required: the receiver's path (CSV)
+  WorldOptions world;             // models, rig, renderer, boom visibility
+  double rate = 10.0;             // [Hz] frames per second of path time
+  double start_time = 0.0;        // [s] path time of the first frame
+  int max_frames = 0;             // 0: to the end of the path
+  bool lockstep = false;          // wait for /aar/pose_estimate of each frame before the next
+  double lockstep_timeout = 5.0;  // [s wall] then go on and count a miss
+  // Free-running: seconds of path time per wall second (1: real time; below 1 the flight and its
+  // clock run slower, for a machine or a build that cannot keep up).
+  double realtime_factor = 1.0;
   bool wait_for_subscribers = false;  // hold frame 0 until both images have a subscriber
   double start_delay = 0.0;           // [s wall] then wait this long (other listeners connecting)
   bool publish_labels =
@@ -34,6 +39,7 @@ struct SimNodeOptions {
   bool shutdown_at_end = false;  // end the process after the last frame (experiments; in a
                                  // nodelet manager this ends the manager)
   double stamp_offset = 1.0;     // [s] stamp = offset + path time; stamp 0 means "latest" to tf
+  TurbulenceOptions turbulence;  // gusts moving the receiver and the boom (default: none)
 };
 
 // Reads ~parameters; throws std::invalid_argument naming a missing required parameter, a bad
@@ -59,11 +65,15 @@ class SimNode {
   void PublishFrame(int index, const FlightPathRow& row, const BoomPose& boom,
                     const StereoFrame& frame, const ros::Time& stamp);
   void OnEstimate(const aar_msgs::PoseEstimate::ConstPtr& msg);
+  // The path's row and boom pose at t [s] (the boom from the row, else DefaultBoomPose()) with
+  // the turbulence applied: what is rendered and published as truth.
+  std::pair<FlightPathRow, BoomPose> StateAt(double t) const;
 
   ros::NodeHandle nh_;
   SimNodeOptions options_;
   std::unique_ptr<World> world_;  // before path_: the path is checked against its boom model
   FlightPath path_;
+  Turbulence turbulence_;  // over the path's span
   image_transport::ImageTransport it_;
   image_transport::CameraPublisher left_pub_, right_pub_;
   image_transport::Publisher left_label_pub_, right_label_pub_;
