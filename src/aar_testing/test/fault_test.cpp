@@ -23,17 +23,23 @@
 
 #include "aar_testing/command.h"
 #include "aar_testing/paths.h"
+#include "aar_testing/time_scale.h"
 
 namespace {
 
 const std::string kRoot = aar_testing::WorkspaceRoot();
 const auto Sh = aar_testing::RunCommand;
+// Sanitized runs are slower (aar_testing::TimeScale): the live flight runs that many times slower
+// than real time, and every wait, window and time bound below is multiplied by it through S().
+const double kScale = aar_testing::TimeScale();
+double S(double seconds) { return seconds * kScale; }
 
 double Now() {
   return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
 
-void Sleep(double s) { ::usleep(static_cast<useconds_t>(s * 1e6)); }
+// Sleeps `s` seconds times the time scale.
+void Sleep(double s) { ::usleep(static_cast<useconds_t>(S(s) * 1e6)); }
 
 struct ProbeRow {
   std::string kind;  // frame, cloud, filtered, boom, estimate
@@ -179,7 +185,7 @@ class Graph {
   }
 
   bool WaitForEstimates(int n, double timeout_s) {
-    const double until = Now() + timeout_s;
+    const double until = Now() + S(timeout_s);
     while (ValidEstimates() < n && Now() < until) Sleep(0.2);
     return ValidEstimates() >= n;
   }
@@ -209,7 +215,7 @@ struct Resumption {
 };
 
 Resumption Analyse(const std::vector<ProbeRow>& rows, double fault_s, double until_s,
-                   double settle_s = 3.0) {
+                   double settle_s = S(3.0)) {
   std::map<int64_t, double> frames, estimates;  // stamp -> first arrival
   for (const auto& r : rows) {
     if (r.kind == "frame") frames.emplace(r.stamp_ns, r.wall_s);
@@ -236,9 +242,10 @@ Resumption Analyse(const std::vector<ProbeRow>& rows, double fault_s, double unt
   return z;
 }
 
+// The flight and its clock run kScale times slower than real time: 2 frames per path second.
 const std::string kLive =
-    "pipeline.launch experiment:=dynamic lockstep:=false rate:=2 start_time:=20 respawn:=true "
-    "output_dir:=%OUT%/eval";
+    "pipeline.launch experiment:=dynamic lockstep:=false rate:=2 realtime_factor:=" +
+    std::to_string(1.0 / kScale) + " start_time:=20 respawn:=true output_dir:=%OUT%/eval";
 
 // Kills (kill -9) the processes of a stage mid-flight and checks that the stage comes back by
 // itself, says so, and that estimation resumes within `max_resume_s` without a restart of the
@@ -273,7 +280,7 @@ void KillStageAndResume(const std::string& test, const std::string& args,
       << log;
   // Resumed, in time, and stays so.
   EXPECT_GE(z.resume_s, 0.0) << "estimation never resumed";
-  EXPECT_LE(z.resume_s, max_resume_s);
+  EXPECT_LE(z.resume_s, S(max_resume_s));
   EXPECT_LE(z.lost, max_lost);
   EXPECT_GE(z.after, 10);
   EXPECT_GE(z.estimated_after, z.after - 1);
@@ -332,7 +339,7 @@ TEST(Faults, BoomTfStallsFramesPassUnculledNamedThenCullingResumes) {
   ASSERT_EQ(g.Signal("robot_state_publisher", SIGCONT).size(), 1u);
   const double continued_at = g.signalled_at();
   Sleep(8.0);
-  const double until = Now() - 3.0;  // later frames may still be on their way
+  const double until = Now() - S(3.0);  // later frames may still be on their way
   // Per frame: when it arrived, when occlusion published its boom points and how many, whether
   // it was estimated.
   std::map<int64_t, double> frames;
@@ -347,7 +354,7 @@ TEST(Faults, BoomTfStallsFramesPassUnculledNamedThenCullingResumes) {
   double culled_again_s = -1.0;  // after tf returned, the first frame culled again
   double lag_s = 0.0;            // in the stall: the most a frame waited for occlusion
   for (const auto& [stamp, arrived] : frames) {
-    if (arrived < stopped_at + 0.5 || arrived > until) continue;  // tf sent before the stop
+    if (arrived < stopped_at + S(0.5) || arrived > until) continue;  // tf sent before the stop
     if (!boom.count(stamp)) {
       lost += arrived < continued_at;  // dropped by a stage that fell behind
       continue;
@@ -360,7 +367,7 @@ TEST(Faults, BoomTfStallsFramesPassUnculledNamedThenCullingResumes) {
       in_stall_estimated += estimated[stamp];
     } else {
       if (points > 0 && culled_again_s < 0.0) culled_again_s = handled - continued_at;
-      if (handled > continued_at + 2.0) {
+      if (handled > continued_at + S(2.0)) {
         ++later;
         culled_later += points > 0;
       }
@@ -376,10 +383,10 @@ TEST(Faults, BoomTfStallsFramesPassUnculledNamedThenCullingResumes) {
   EXPECT_EQ(in_stall_estimated, in_stall);
   // Keeping up: one tf_timeout (0.5 s) per frame, not one per missing link (it fell 3.7 s
   // behind and dropped frames).
-  EXPECT_LE(lag_s, 1.2);  // measured: 0.65 to 0.74 s
-  EXPECT_LE(lost, 1);     // measured: 0
+  EXPECT_LE(lag_s, S(1.2));  // measured: 0.65 to 0.74 s
+  EXPECT_LE(lost, 1);        // measured: 0
   EXPECT_GE(culled_again_s, 0.0);
-  EXPECT_LE(culled_again_s, 2.0);  // measured: 0.01 to 0.76 s (the next frame's tf)
+  EXPECT_LE(culled_again_s, S(2.0));  // measured: 0.01 to 0.76 s (the next frame's tf)
   EXPECT_GE(later, 6);
   EXPECT_EQ(culled_later, later);
   const std::string log = g.Log();
@@ -399,7 +406,8 @@ TEST(Faults, BoomTfStallsFramesPassUnculledNamedThenCullingResumes) {
 // node gets the mounts, and estimation resumes.
 TEST(Faults, CameraMountsStalledWhileAStageRestartsNamedThenResumes) {
   Graph g("mounts", "replay.launch bag:=" + kRoot +
-                        "/rosbags/sample_contact.bag rate:=0.1 realtime:=true manager:=false "
+                        "/rosbags/sample_contact.bag rate:=" + std::to_string(0.1 / kScale) +
+                        " realtime:=true manager:=false "
                         "output_dir:=%OUT%/eval");
   ASSERT_TRUE(g.WaitForEstimates(4, 90.0)) << g.Log();
   ASSERT_EQ(g.Signal("__name:=tf_static_merge", SIGSTOP).size(), 1u);
@@ -413,7 +421,7 @@ TEST(Faults, CameraMountsStalledWhileAStageRestartsNamedThenResumes) {
   Sleep(10.0);
   const auto rows = g.Probe();
   // The running stages went on with the publisher stopped: frames before the kill estimated.
-  const Resumption running = Analyse(rows, stopped_at, killed_at, 1.5);
+  const Resumption running = Analyse(rows, stopped_at, killed_at, S(1.5));
   const Resumption z = Analyse(rows, continued_at, Now());
   const Resumption all = Analyse(rows, killed_at, Now());
   std::printf(
@@ -425,14 +433,15 @@ TEST(Faults, CameraMountsStalledWhileAStageRestartsNamedThenResumes) {
   EXPECT_GE(all.lost, 2);  // the respawned node had no mounts (the player sends in bursts)
   EXPECT_GE(z.resume_s, 0.0);
   // Measured: 0.62 to 1.89 s; the loaded player sends frames in pairs up to 2 s apart.
-  EXPECT_LE(z.resume_s, 3.5);
+  EXPECT_LE(z.resume_s, S(3.5));
   EXPECT_GE(z.after, 6);
   EXPECT_GE(z.estimated_after, z.after - 1);
   const std::string log = g.Log();
   EXPECT_NE(log.find("/occlusion started again (start 2 under this master)"), std::string::npos);
-  EXPECT_NE(log.find("occlusion: frame passes through unculled: no tf tanker -> "
-                     "'stereo_left_optical'"),
-            std::string::npos)
+  // Whichever camera's mount it lacks first (left on a plain build, right once on a slow one).
+  EXPECT_TRUE(
+      std::regex_search(log, std::regex("occlusion: frame passes through unculled: no tf tanker -> "
+                                        "'stereo_(left|right)_optical'")))
       << log;
 }
 
@@ -452,20 +461,22 @@ TEST(Faults, MasterRestartsGraphGoesOnAndIsRegisteredAgain) {
   const double restarted_at = Now();
   g.StartMaster();
   double registered_s = -1.0;
-  while (Now() < restarted_at + 10.0 && registered_s < 0.0) {
+  while (Now() < restarted_at + S(10.0) && registered_s < 0.0) {
     if (g.Log().find("registrations made again") != std::string::npos)
       registered_s = Now() - restarted_at;
     Sleep(0.1);
   }
   // A subscriber that comes now finds the estimates' publisher; the parameters are back.
-  const auto echo = g.Run("timeout 15 rostopic echo -n 1 /aar/pose_estimate/valid");
-  const auto param = g.Run("timeout 10 rosparam get /occlusion/tf_timeout");
+  const auto echo =
+      g.Run("timeout " + std::to_string(S(15.0)) + " rostopic echo -n 1 /aar/pose_estimate/valid");
+  const auto param =
+      g.Run("timeout " + std::to_string(S(10.0)) + " rosparam get /occlusion/tf_timeout");
   // A stage that restarts now gets what it needs from the new master.
   const auto killed = g.Signal("RegistrationNodelet", SIGKILL);
   const double reg_killed_at = g.signalled_at();
   Sleep(14.0);
   const auto rows = g.Probe();
-  const Resumption across = Analyse(rows, killed_at, reg_killed_at, 1.5);
+  const Resumption across = Analyse(rows, killed_at, reg_killed_at, S(1.5));
   const Resumption z = Analyse(rows, reg_killed_at, Now());
   std::printf(
       "[ fault ] master restarted: %d frames lost across it, registered again %.2f s "
@@ -475,7 +486,7 @@ TEST(Faults, MasterRestartsGraphGoesOnAndIsRegisteredAgain) {
   EXPECT_EQ(across.lost, 0);  // connections kept
   EXPECT_GE(registered_s, 0.0) << g.Log();
   // Measured: 1.06 to 1.21 s (the new master's start-up and one period).
-  EXPECT_LE(registered_s, 2.0);
+  EXPECT_LE(registered_s, S(2.0));
   EXPECT_EQ(echo.status, 0) << echo.output;
   EXPECT_NE(echo.output.find("True"), std::string::npos) << echo.output;
   EXPECT_EQ(param.status, 0) << param.output;

@@ -18,6 +18,7 @@
 
 #include "aar_testing/command.h"
 #include "aar_testing/paths.h"
+#include "aar_testing/time_scale.h"
 
 namespace {
 
@@ -37,12 +38,22 @@ PipelineRun RunPipeline(const std::string& experiment, int frames, double start_
   EXPECT_GT(port, 0);
   std::ostringstream start;
   start << start_s;
+  std::filesystem::create_directories(out);
+  // Sanitized runs are slower (aar_testing::TimeScale): the simulator waits that many times
+  // longer for each estimate in lockstep (config/sim.yaml's lockstep_timeout: 5 s), and the
+  // run's time limit grows with it.
+  const double scale = aar_testing::TimeScale();
+  std::string sim_config;
+  if (scale > 1.0) {
+    sim_config = " sim_config:=" + out + "/time_scale.yaml";
+    std::ofstream(out + "/time_scale.yaml") << "lockstep_timeout: " << 5.0 * scale << "\n";
+  }
   const std::string command =
       "ROS_MASTER_URI=http://localhost:" + std::to_string(port) + " timeout --signal=INT " +
-      "--kill-after=20 240 roslaunch -p " + std::to_string(port) + " " + kRoot +
-      "/launch/pipeline.launch experiment:=" + experiment + " frames:=" + std::to_string(frames) +
-      " start_time:=" + start.str() + " output_dir:=" + out + " > " + out + ".log 2>&1";
-  std::filesystem::create_directories(out);
+      "--kill-after=20 " + std::to_string(240.0 * scale) + " roslaunch -p " + std::to_string(port) +
+      " " + kRoot + "/launch/pipeline.launch experiment:=" + experiment +
+      " frames:=" + std::to_string(frames) + " start_time:=" + start.str() + sim_config +
+      " output_dir:=" + out + " > " + out + ".log 2>&1";
   EXPECT_EQ(std::system(command.c_str()), 0) << command << " (log: " << out << ".log)";
   PipelineRun run;
   std::ifstream csv(out + "/frames.csv");

@@ -18,6 +18,7 @@
 
 #include "aar_testing/command.h"
 #include "aar_testing/paths.h"
+#include "aar_testing/time_scale.h"
 
 namespace {
 
@@ -26,14 +27,23 @@ const std::string kRoot = aar_testing::WorkspaceRoot();
 using Result = aar_testing::CommandResult;
 const auto Sh = aar_testing::RunCommand;
 
-std::string Replay(const std::string& bag, const std::string& out) {
-  return "timeout 300 " + kRoot + "/scripts/replay --no-build " + bag + " --out " + out;
+// Sanitized runs are slower (aar_testing::TimeScale): replay rates are divided by it, timeouts
+// multiplied by it.
+const double kScale = aar_testing::TimeScale();
+// `timeout` for a command that takes up to `seconds` in a plain build.
+std::string Timeout(double seconds) { return "timeout " + std::to_string(seconds * kScale) + " "; }
+std::string Rate(double rate) { return " --rate " + std::to_string(rate / kScale) + " "; }
+
+// scripts/replay at `rate` (its default, 0.25, unless given) of the recorded speed.
+std::string Replay(const std::string& bag, const std::string& out, double rate = 0.25) {
+  return Timeout(300) + kRoot + "/scripts/replay --no-build" + Rate(rate) + bag + " --out " + out;
 }
 
 TEST(Replay, SampleBagReproducesTheLiveRun) {
   const std::string out = ::testing::TempDir() + "/replay_sample";
   std::filesystem::remove_all(out);
-  const Result r = Sh(Replay(kRoot + "/rosbags/sample_contact.bag", out));
+  // A tenth of the recorded rate: at 0.25 a sanitized graph fell behind the bag.
+  const Result r = Sh(Replay(kRoot + "/rosbags/sample_contact.bag", out, 0.1));
   std::printf("%s", r.output.c_str());
   ASSERT_EQ(r.status, 0);
   std::smatch m;
@@ -55,9 +65,8 @@ TEST(Replay, SampleBagReproducesTheLiveRun) {
 TEST(Replay, FramesWithoutAnEstimateAreCountedNotASuccess) {
   const std::string out = ::testing::TempDir() + "/replay_fast";
   std::filesystem::remove_all(out);
-  const Result r =
-      Sh("timeout 300 " + kRoot + "/scripts/replay --no-build --no-compare --rate 20 " + kRoot +
-         "/rosbags/sample_contact.bag --out " + out);
+  const Result r = Sh(Timeout(300) + kRoot + "/scripts/replay --no-build --no-compare --rate 20 " +
+                      kRoot + "/rosbags/sample_contact.bag --out " + out);
   std::printf("%s", r.output.c_str());
   std::smatch m;
   ASSERT_TRUE(std::regex_search(
@@ -75,8 +84,9 @@ TEST(Replay, FramesWithoutAnEstimateAreCountedNotASuccess) {
 TEST(Replay, TfOutageFramesAreNamedAndCounted) {
   const std::string out = ::testing::TempDir() + "/replay_outage";
   std::filesystem::remove_all(out);
-  const Result r = Sh("timeout 300 " + kRoot + "/scripts/replay --no-build --no-compare " +
-                      "--tf-outage 47,1 " + kRoot + "/rosbags/sample_contact.bag --out " + out);
+  const Result r =
+      Sh(Timeout(300) + kRoot + "/scripts/replay --no-build --no-compare" + Rate(0.25) +
+         "--tf-outage 47,1 " + kRoot + "/rosbags/sample_contact.bag --out " + out);
   std::printf("%s", r.output.c_str());
   EXPECT_EQ(r.status, 1);
   std::smatch m;
@@ -101,8 +111,8 @@ void KillMidFlightAndResume(const std::string& name, const std::string& pattern)
   const std::string csv = out + "/dynamic/frames.csv";
   // At a tenth of the recorded rate (30 s of playback), a stage has time to come back.
   ASSERT_EQ(
-      Sh("(timeout 300 " + kRoot + "/scripts/replay --no-build --no-compare --rate 0.1 " + kRoot +
-         "/rosbags/sample_contact.bag --out " + out + " > " + out + "/replay.log 2>&1; " +
+      Sh("(" + Timeout(300) + kRoot + "/scripts/replay --no-build --no-compare" + Rate(0.1) +
+         kRoot + "/rosbags/sample_contact.bag --out " + out + " > " + out + "/replay.log 2>&1; " +
          "echo $? > " + out + "/status) > /dev/null 2>&1 & echo $! > " + out + "/pid")
           .status,
       0);
@@ -110,7 +120,7 @@ void KillMidFlightAndResume(const std::string& name, const std::string& pattern)
   auto rows = [&] { return Sh("[ -f " + csv + " ] && tail -n +2 " + csv + " | wc -l || echo 0"); };
   const auto start = std::chrono::steady_clock::now();
   while (std::stoi(rows().output) < 8 &&
-         std::chrono::steady_clock::now() - start < std::chrono::seconds(120))
+         std::chrono::steady_clock::now() - start < std::chrono::seconds(120) * kScale)
     ::usleep(200000);
   ASSERT_GE(std::stoi(rows().output), 8) << Sh("cat " + out + "/replay.log").output;
   // The replay's process tree, breadth first from the backgrounded shell.
@@ -123,7 +133,7 @@ void KillMidFlightAndResume(const std::string& name, const std::string& pattern)
               killed.output.c_str());
   ASSERT_NE(killed.output.find("killed"), std::string::npos) << "no process matched " << pattern;
   while (!std::filesystem::exists(out + "/status") &&
-         std::chrono::steady_clock::now() - start < std::chrono::seconds(300))
+         std::chrono::steady_clock::now() - start < std::chrono::seconds(300) * kScale)
     ::usleep(500000);
   const std::string log = Sh("cat " + out + "/replay.log " + out + "/dynamic/launch.log").output;
   ASSERT_TRUE(std::filesystem::exists(out + "/status")) << log;
@@ -157,7 +167,7 @@ TEST(Replay, RigBagRawImagesWithoutTruthGivesEstimates) {
   const std::string out = ::testing::TempDir() + "/replay_rig";
   std::filesystem::remove_all(out);
   // Rate 0.1: on a loaded machine one frame in ten was once lost at 0.25 (the graph behind).
-  const Result r = Sh(Replay(bag, out) + " --no-truth --rate 0.1");
+  const Result r = Sh(Replay(bag, out, 0.1) + " --no-truth");
   std::printf("%s", r.output.c_str());
   ASSERT_EQ(r.status, 0);
   EXPECT_NE(r.output.find("the bag holds raw images (image_raw): image_proc rectifies them"),
@@ -193,7 +203,7 @@ TEST(Replay, RigBagRawImagesWithoutTruthGivesEstimates) {
   EXPECT_LT(worst_m, 0.035);  // 0.0252 m measured (raw + rectified, near contact)
 
   // With truth expected, every frame is unscored: a failure that names --no-truth.
-  const Result scored = Sh(Replay(bag, out + "_scored") + " --rate 0.1");
+  const Result scored = Sh(Replay(bag, out + "_scored", 0.1));
   EXPECT_EQ(scored.status, 1) << scored.output;
   EXPECT_NE(scored.output.find("--no-truth"), std::string::npos) << scored.output;
 }
@@ -227,7 +237,7 @@ TEST(Replay, BrokenBagsAreNamedAndRefused) {
                 r.output.c_str());
     EXPECT_EQ(r.status, 2) << c.name;
     EXPECT_NE(r.output.find(c.needle), std::string::npos) << c.name << ": " << r.output;
-    EXPECT_LT(r.seconds, 60.0) << c.name;
+    EXPECT_LT(r.seconds, 60.0 * kScale) << c.name;
   }
 }
 
@@ -236,7 +246,7 @@ TEST(Replay, BrokenBagsAreNamedAndRefused) {
 TEST(Capture, ScreenshotShowsTheConfiguredColours) {
   const std::string out = ::testing::TempDir() + "/capture_sample";
   std::filesystem::remove_all(out);
-  const Result r = Sh("timeout 400 " + kRoot + "/scripts/capture --no-build " + kRoot +
+  const Result r = Sh(Timeout(400) + kRoot + "/scripts/capture --no-build " + kRoot +
                       "/rosbags/sample_contact.bag --frames 6 --out " + out);
   std::printf("%s", r.output.c_str());
   ASSERT_EQ(r.status, 0);
