@@ -20,8 +20,17 @@ namespace {
 
 double Nan() { return std::numeric_limits<double>::quiet_NaN(); }
 
-// "mean [low, high]" at `digits`, or "mean (n = 1)" / "-" without an interval.
-std::string Format(const Interval& i, int digits) {
+// Whether the interval of a % improvement settles the sign.
+std::string Verdict(const Interval& i) {
+  if (i.n < 2) return "";
+  if (i.low > 0.0) return " better";
+  if (i.high < 0.0) return " worse";
+  return " unresolved";
+}
+
+}  // namespace
+
+std::string FormatInterval(const Interval& i, int digits) {
   std::ostringstream s;
   s << std::fixed << std::setprecision(digits);
   if (i.n == 0) return "-";
@@ -32,16 +41,6 @@ std::string Format(const Interval& i, int digits) {
     s << " [" << i.low << ", " << i.high << "]";
   return s.str();
 }
-
-// Whether the interval of a % improvement settles the sign.
-std::string Verdict(const Interval& i) {
-  if (i.n < 2) return "";
-  if (i.low > 0.0) return " better";
-  if (i.high < 0.0) return " worse";
-  return " unresolved";
-}
-
-}  // namespace
 
 Interval MeanInterval(const std::vector<double>& samples, double confidence) {
   if (!(confidence > 0.0 && confidence < 1.0))
@@ -156,7 +155,7 @@ SuiteReportResult WriteSuiteReport(const SuiteReportOptions& options) {
       Interval i = MeanInterval(share, options.confidence);
       i.low = std::max(i.low, 0.0);  // a share: the t interval clipped to what can be
       i.high = std::min(i.high, 100.0);
-      out << ' ' << Format(i, 1) << " |";
+      out << ' ' << FormatInterval(i, 1) << " |";
     }
     out << "\n";
   }
@@ -177,7 +176,7 @@ SuiteReportResult WriteSuiteReport(const SuiteReportOptions& options) {
       }
       out << "| " << e << " | " << MeanInterval(samples[0], options.confidence).n << " |";
       for (int c = 0; c < 6; ++c)
-        out << ' ' << Format(MeanInterval(samples[c], options.confidence), 3) << " |";
+        out << ' ' << FormatInterval(MeanInterval(samples[c], options.confidence), 3) << " |";
       out << "\n";
     }
   }
@@ -212,7 +211,7 @@ SuiteReportResult WriteSuiteReport(const SuiteReportOptions& options) {
       out << "| " << e << " | " << paired << " |";
       for (const auto& [key, title] : RegionTitles()) {
         const Interval i = MeanInterval(gain[key], options.confidence);
-        out << ' ' << Format(i, 1) << (i.n ? " %" : "") << Verdict(i) << " |";
+        out << ' ' << FormatInterval(i, 1) << (i.n ? " %" : "") << Verdict(i) << " |";
       }
       out << "\n";
     }

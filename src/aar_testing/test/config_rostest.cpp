@@ -4,6 +4,8 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <fstream>
+#include <regex>
 #include <tuple>
 #include <vector>
 
@@ -191,6 +193,30 @@ TEST(Config, EveryRealismPresetLoadsIntoTheSim) {
     }
   }
   EXPECT_GE(presets, 1);
+}
+
+// realism/realistic.yaml is every effect at once at the level of its own preset: each key of
+// every other preset has the same value there, so the two cannot drift apart.
+TEST(Config, RealisticPresetHoldsEveryOtherPresetsValues) {
+  const std::string dir = aar_testing::ConfigDir() + "/realism";
+  int keys = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(dir)) {
+    const std::string name = entry.path().stem().string();
+    if (entry.path().extension() != ".yaml" || name == "realistic") continue;
+    std::ifstream file(entry.path());
+    const std::regex key_line("^([a-z_]+):");
+    std::smatch m;
+    for (std::string line; std::getline(file, line);) {
+      if (!std::regex_search(line, m, key_line)) continue;
+      XmlRpc::XmlRpcValue preset, realistic;
+      ASSERT_TRUE(ros::param::get("/realism_" + name + "/sim/" + m[1].str(), preset)) << m[1];
+      EXPECT_TRUE(ros::param::get("/realism_realistic/sim/" + m[1].str(), realistic) &&
+                  realistic == preset)
+          << "realistic.yaml's " << m[1] << " differs from " << name << ".yaml's";
+      ++keys;
+    }
+  }
+  EXPECT_GE(keys, 19);  // 6 background + 9 sensor + 4 turbulence keys today
 }
 
 // config/sim.yaml's raw cameras: off by default (rectified pinhole images), and its lens values

@@ -54,4 +54,29 @@ TEST(RunScript, BadReceiverIsNamedAndRefused) {
   aar_testing::RunCommand("rm -f " + copy);
 }
 
+// scripts/realism: worlds that are not presets, a first world other than ideal, and the suite's
+// own bad arguments are named and refused (exit 2) before any run.
+TEST(RealismScript, BadArgumentsAreNamedAndRefused) {
+  const struct {
+    std::string args, needle;
+  } cases[] = {
+      {"--worlds turbulence", "--worlds must start with ideal"},
+      {"--worlds ideal", "--worlds needs ideal and at least one preset"},
+      {"--worlds ideal,nope", "no world 'nope': config/realism/nope.yaml does not exist"},
+      {"--suite 0 --worlds ideal,turbulence",
+       "--suite takes a number of approaches of at least 1, not '0'"},
+      {"--experiments naive,nonsense --worlds ideal,turbulence",
+       "no experiment 'nonsense' in config/experiments/"},
+      {"--bogus", "unknown argument '--bogus'"},
+      {"--out", "--out needs a value"},
+  };
+  for (const auto& c : cases) {
+    const auto r =
+        aar_testing::RunCommand(aar_testing::WorkspaceRoot() + "/scripts/realism --no-build " +
+                                c.args + (c.args == "--out" ? "" : " --out /tmp/aar_realism_test"));
+    EXPECT_EQ(r.status, 2) << c.args << ": " << r.output;
+    EXPECT_NE(r.output.find(c.needle), std::string::npos) << c.args << ": " << r.output;
+  }
+}
+
 }  // namespace

@@ -15,6 +15,8 @@ struct Interval {
 };
 // NaN samples are left out. `confidence` in (0, 1).
 Interval MeanInterval(const std::vector<double>& samples, double confidence = 0.95);
+// "mean [low, high]" at `digits` decimals, "mean (n = 1)" with one sample, "-" with none.
+std::string FormatInterval(const Interval& interval, int digits);
 
 struct SuiteReportOptions {
   std::string dir;  // DIR/approaches/<name>/<experiment>/frames.csv; DIR/suite.md is written

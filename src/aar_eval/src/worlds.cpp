@@ -1,0 +1,162 @@
+#include "aar_eval/worlds.h"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <map>
+#include <stdexcept>
+
+#include "aar_eval/suite.h"
+#include "aar_eval/tables.h"
+
+namespace aar_eval {
+namespace {
+
+double Nan() { return std::numeric_limits<double>::quiet_NaN(); }
+
+// One approach's figures in one region: frames, estimated frames, mean error magnitudes.
+struct RegionFigures {
+  int frames = 0;
+  int estimated = 0;
+  double position_m = Nan();    // mean over estimated frames of |(x, y, z) error|
+  double attitude_deg = Nan();  // mean over estimated frames of |(roll, pitch, yaw) error|
+  double coverage() const { return frames ? 100.0 * estimated / frames : Nan(); }
+};
+
+bool InRegion(const FrameRecord& f, const std::string& key) {
+  if (f.region == aar_geometry::Region::kOutside) return false;
+  return key == "all" || aar_geometry::RegionName(f.region) == key;
+}
+
+RegionFigures Figures(const std::vector<FrameRecord>& frames, const std::string& key) {
+  RegionFigures r;
+  double position = 0.0, attitude = 0.0;
+  for (const auto& f : frames) {
+    if (!InRegion(f, key)) continue;
+    ++r.frames;
+    if (!f.estimated) continue;
+    ++r.estimated;
+    position += std::hypot(f.error[0], f.error[1], f.error[2]);
+    attitude += std::hypot(f.error[3], f.error[4], f.error[5]);
+  }
+  if (r.estimated) {
+    r.position_m = position / r.estimated;
+    r.attitude_deg = attitude / r.estimated;
+  }
+  return r;
+}
+
+std::vector<std::string> Approaches(const std::string& dir) {
+  namespace fs = std::filesystem;
+  std::vector<std::string> out;
+  const fs::path approaches = fs::path(dir) / "approaches";
+  if (fs::is_directory(approaches))
+    for (const auto& entry : fs::directory_iterator(approaches))
+      if (entry.is_directory()) out.push_back(entry.path().filename().string());
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+}  // namespace
+
+WorldsReportResult WriteWorldsReport(const WorldsReportOptions& options) {
+  namespace fs = std::filesystem;
+  if (options.worlds.size() < 2)
+    throw std::invalid_argument("a worlds report needs the reference world and at least one more");
+  if (options.experiments.empty()) throw std::invalid_argument("a worlds report needs experiments");
+  WorldsReportResult result;
+  result.path = options.path;
+
+  // The reference world's approaches are the ground: every other world is compared on them.
+  const std::string& reference = options.worlds.front().first;
+  const std::vector<std::string> approaches = Approaches(options.worlds.front().second);
+  // records[world][experiment][approach]
+  std::map<std::string, std::map<std::string, std::map<std::string, std::vector<FrameRecord>>>>
+      records;
+  for (const auto& [world, dir] : options.worlds) {
+    for (const auto& e : options.experiments) {
+      for (const auto& a : approaches) {
+        const fs::path csv = fs::path(dir) / "approaches" / a / e / "frames.csv";
+        if (fs::exists(csv)) {
+          records[world][e][a] = ReadFrameCsv(csv.string());
+        } else if (world != reference && fs::exists(fs::path(options.worlds.front().second) /
+                                                    "approaches" / a / e / "frames.csv")) {
+          result.missing.push_back(world + "/" + a + "/" + e);
+        }
+      }
+    }
+  }
+  if (records[reference].empty())
+    throw std::runtime_error("the reference world '" + reference + "' has no results in " +
+                             options.worlds.front().second + "/approaches");
+
+  std::ofstream out(options.path);
+  out << "# The cost of each realism effect\n\n";
+  if (!result.missing.empty()) {
+    out << "**INCOMPLETE:** missing: ";
+    for (size_t i = 0; i < result.missing.size(); ++i) out << (i ? ", " : "") << result.missing[i];
+    out << ". Each figure is over the approaches that have results.\n\n";
+  }
+  out << "## Runs\n\n";
+  for (const auto& [world, dir] : options.worlds) {
+    out << "**" << world << "** (" << dir << ")\n\n```\n";
+    std::ifstream run(dir + "/run.txt");
+    if (run && run.peek() != std::ifstream::traits_type::eof())
+      out << run.rdbuf();
+    else
+      out << "(no run.txt)\n";
+    out << "```\n\n";
+  }
+  const int percent = static_cast<int>(std::lround(options.confidence * 100.0));
+  out << "Position error: per frame the norm of the x, y, z error along the true body axes [m]; "
+         "attitude error: the norm of the roll, pitch, yaw error [deg]; each averaged over the "
+         "frames an approach estimated, then over approaches, with the "
+      << percent
+      << " % Student-t interval in brackets. Cost: per approach the ratio of a world's error to "
+         "the "
+      << reference
+      << " world's on the same approach, then the mean ratio over approaches (1: no cost).\n";
+
+  for (const auto& [key, title] : RegionTitles()) {
+    out << "\n## " << title << "\n\n| experiment | world | approaches | coverage (%) | position "
+        << "(m) | attitude (deg) | position cost | attitude cost |\n"
+        << "|---|---|---:|---:|---:|---:|---:|---:|\n";
+    for (const auto& e : options.experiments) {
+      if (!records[reference].count(e)) continue;
+      for (const auto& [world, dir] : options.worlds) {
+        const auto& by_approach = records[world][e];
+        if (by_approach.empty()) continue;
+        std::vector<double> coverage, position, attitude, position_cost, attitude_cost;
+        for (const auto& [a, frames] : by_approach) {
+          const RegionFigures f = Figures(frames, key);
+          coverage.push_back(f.coverage());
+          position.push_back(f.position_m);
+          attitude.push_back(f.attitude_deg);
+          const auto ref = records[reference][e].find(a);
+          if (world == reference || ref == records[reference][e].end()) continue;
+          const RegionFigures r = Figures(ref->second, key);
+          position_cost.push_back(r.position_m > 0.0 ? f.position_m / r.position_m : Nan());
+          attitude_cost.push_back(r.attitude_deg > 0.0 ? f.attitude_deg / r.attitude_deg : Nan());
+        }
+        Interval c = MeanInterval(coverage, options.confidence);
+        c.low = std::max(c.low, 0.0);  // a share: the t interval clipped to what can be
+        c.high = std::min(c.high, 100.0);
+        out << "| " << e << " | " << world << " | " << c.n << " | " << FormatInterval(c, 1) << " | "
+            << FormatInterval(MeanInterval(position, options.confidence), 3) << " | "
+            << FormatInterval(MeanInterval(attitude, options.confidence), 3) << " | ";
+        if (world == reference) {
+          out << "- | - |\n";
+        } else {
+          out << FormatInterval(MeanInterval(position_cost, options.confidence), 2) << " | "
+              << FormatInterval(MeanInterval(attitude_cost, options.confidence), 2) << " |\n";
+        }
+      }
+    }
+  }
+  if (!out) throw std::runtime_error(options.path + ": write failed");
+  return result;
+}
+
+}  // namespace aar_eval
