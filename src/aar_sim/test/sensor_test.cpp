@@ -60,7 +60,7 @@ double CentralMean(const Image<uint8_t>& image) {
   return sum / n;
 }
 
-// The renderer's read noise before the sensor model existed (renderer.cpp at ecce923, verbatim):
+// The renderer's read noise before the sensor model existed (renderer.cpp at e0e349f, verbatim):
 // the reference for images with noise.
 // Inverse of the standard normal CDF (Acklam's rational approximation, relative error < 1.2e-9).
 double NormalQuantile(double p) {
