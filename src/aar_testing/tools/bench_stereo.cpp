@@ -7,7 +7,9 @@
 //     receiver points it keeps.
 //   bench_stereo [FRAMES] [REPEATS] [CSV]
 // AAR_RECEIVER (a receiver description, e.g. aar_description/models/rq4.yaml) and
-// AAR_FLIGHT_PATH (its approach) put another receiver on another path.
+// AAR_FLIGHT_PATH (its approach) put another receiver on another path. AAR_BACKGROUND (sea or
+// terrain, with config/realism/background.yaml's 40 % cloud layer) puts a background behind the
+// receiver: "other" then counts the background points that survive the stereo stage.
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -45,12 +47,17 @@ sensor_msgs::CameraInfo Info(const aar_sim::CameraIntrinsics& k, double Tx) {
 
 struct Counts {
   int receiver = 0, boom = 0, other = 0;
+  int background = 0;  // of `other`: on ground or cloud pixels (AAR_BACKGROUND)
+  int far = 0;         // farther than 100 m from the camera: not on the receiver or boom
 };
 
 Counts Count(const aar_stereo::CloudPoints& cloud, const aar_sim::Image<uint8_t>& label) {
   Counts c;
-  for (int px : cloud.pixel) {
-    const uint8_t l = label.data[px];
+  for (size_t i = 0; i < cloud.pixel.size(); ++i) {
+    c.far += cloud.xyz[i].norm() > 100.0f;
+    const uint8_t l = label.data[cloud.pixel[i]];
+    c.background += l == static_cast<uint8_t>(aar_sim::Label::kGround) ||
+                    l == static_cast<uint8_t>(aar_sim::Label::kCloud);
     (l == static_cast<uint8_t>(aar_sim::Label::kReceiver) ? c.receiver
      : l == static_cast<uint8_t>(aar_sim::Label::kBoom)   ? c.boom
                                                           : c.other)++;
@@ -75,6 +82,12 @@ int main(int argc, char** argv) {
         aar_sim::CameraIntrinsics::FromHorizontalFov(1280, 960, 60.0), 0.5,
         {env("AAR_RIG_X", -20.0), env("AAR_RIG_Y", 1.0), env("AAR_RIG_Z", -3.0)}, 180.0,
         env("AAR_RIG_PITCH", 25.0));
+    if (const char* background = std::getenv("AAR_BACKGROUND"); background && *background) {
+      w.renderer.scene.background = std::string(background) == "sea"
+                                        ? aar_sim::Background::kSea
+                                        : aar_sim::Background::kTerrain;
+      w.renderer.scene.cloud_coverage = 0.4;
+    }
     if (std::getenv("AAR_RECEIVER"))
       w.receiver = aar_description::LoadReceiverDescription(std::getenv("AAR_RECEIVER"));
     const aar_stereo::StereoOptions options;  // thesis defaults: BM 9 / 48, every 8th point
@@ -111,9 +124,9 @@ int main(int argc, char** argv) {
              "ms,roi_ms,"
              "roi_fraction,receiver_valid_full,receiver_valid_roi\n";
     }
-    std::printf("%6s %8s %9s %6s %6s %9s %9s %8s %8s %8s %10s %10s\n", "t[s]", "range[m]",
-                "receiver", "boom", "other", "aar[ms]", "sip[ms]", "roi[ms]", "speedup", "roi area",
-                "rcv full", "rcv roi");
+    std::printf("%6s %8s %9s %6s %6s %6s %6s %9s %9s %8s %8s %8s %10s %10s\n", "t[s]", "range[m]",
+                "receiver", "boom", "other", "bg", "far", "aar[ms]", "sip[ms]", "roi[ms]",
+                "speedup", "roi area", "rcv full", "rcv roi");
     for (int i = 0; i < frames; ++i) {
       const double t =
           path.start_time() + (path.end_time() - path.start_time()) * i / std::max(1, frames - 1);
@@ -150,10 +163,10 @@ int main(int argc, char** argv) {
       const Counts roi_all = Count(ours_all.Process(left, right, g, roi).cloud, f.left.label);
       const double area = static_cast<double>(roi.area()) / (k.width * k.height);
 
-      std::printf("%6.1f %8.1f %9d %6d %6d %9.1f %9.1f %8.1f %8.2f %7.1f%% %10d %10d\n", t,
-                  row.position_m.norm(), counts.receiver, counts.boom, counts.other, ours_ms,
-                  sip_ms, roi_ms, ours_ms / roi_ms, 100.0 * area, full_all.receiver,
-                  roi_all.receiver);
+      std::printf("%6.1f %8.1f %9d %6d %6d %6d %6d %9.1f %9.1f %8.1f %8.2f %7.1f%% %10d %10d\n", t,
+                  row.position_m.norm(), counts.receiver, counts.boom, counts.other,
+                  counts.background, counts.far, ours_ms, sip_ms, roi_ms, ours_ms / roi_ms,
+                  100.0 * area, full_all.receiver, roi_all.receiver);
       if (out) {
         out << t << ',' << row.position_m.norm() << ',' << counts.receiver << ',' << counts.boom
             << ',' << counts.other << ',' << ours_ms << ',' << sip_ms << ',' << roi_ms << ','
