@@ -1,5 +1,6 @@
 #include "aar_description/receiver_description.h"
 
+#include <cmath>
 #include <filesystem>
 #include <iomanip>
 #include <set>
@@ -148,6 +149,42 @@ ReceiverDescription LoadReceiverDescription(const std::string& path) {
   if (!(d.max_open_length >= 0.0)) throw LoadError(path, "'max_open_length' must be >= 0");
   if ((d.has_contact = keys.Has("contact")))
     d.T_tanker_receiver_contact = keys.Pose("contact", "position", &d.contact_rpy_deg);
+  if ((d.has_canopy = keys.Has("canopy"))) {
+    StrictMap box(keys.Get("canopy"), path, "canopy");
+    d.canopy = Eigen::AlignedBox3d(box.Vector("min"), box.Vector("max"));
+    box.Finish();
+    if (d.canopy.isEmpty()) throw LoadError(path, "'canopy': min must not exceed max");
+  }
+  if (keys.Has("propellers")) {
+    const YAML::Node list = keys.Get("propellers");
+    if (!list.IsSequence()) throw LoadError(path, "'propellers' must be a list of maps");
+    for (size_t i = 0; i < list.size(); ++i) {
+      const std::string where = "propellers[" + std::to_string(i) + "]";
+      StrictMap item(list[i], path, where);
+      PropellerDescription prop;
+      prop.hub = item.Vector("hub");
+      if (item.Has("axis")) prop.axis = item.Vector("axis");
+      if (item.Has("radius")) prop.radius = item.Number("radius");
+      if (item.Has("hub_radius")) prop.hub_radius = item.Number("hub_radius");
+      if (item.Has("chord")) prop.chord = item.Number("chord");
+      if (item.Has("blades")) {
+        const double blades = item.Number("blades");
+        if (blades != std::round(blades) || blades < 1 || blades > 16)
+          throw LoadError(path, "'" + where + "/blades' must be a whole number from 1 to 16");
+        prop.blades = static_cast<int>(blades);
+      }
+      if (item.Has("rpm")) prop.rpm = item.Number("rpm");
+      if (item.Has("phase_deg")) prop.phase_deg = item.Number("phase_deg");
+      item.Finish();
+      if (!(prop.axis.norm() > 1e-9))
+        throw LoadError(path, "'" + where + "/axis' must not be zero");
+      prop.axis.normalize();
+      if (!(prop.radius > 0.0 && prop.hub_radius >= 0.0 && prop.hub_radius < prop.radius))
+        throw LoadError(path, "'" + where + "': radius must be positive and above hub_radius >= 0");
+      if (!(prop.chord > 0.0)) throw LoadError(path, "'" + where + "/chord' must be positive");
+      d.propellers.push_back(prop);
+    }
+  }
   keys.Finish();
   return d;
 }
@@ -190,6 +227,17 @@ std::string ReceiverDescriptionYaml(const ReceiverDescription& d, const std::str
   if (d.has_contact) {
     s << "contact:\n  position: " << Numbers(d.T_tanker_receiver_contact.translation())
       << "\n  rpy_deg: " << Numbers(d.contact_rpy_deg) << "\n";
+  }
+  if (d.has_canopy) {
+    s << "canopy:\n  min: " << Numbers(d.canopy.min()) << "\n  max: " << Numbers(d.canopy.max())
+      << "\n";
+  }
+  if (!d.propellers.empty()) s << "propellers:\n";
+  for (const PropellerDescription& p : d.propellers) {
+    s << "  - hub: " << Numbers(p.hub) << "\n    axis: " << Numbers(p.axis)
+      << "\n    radius: " << p.radius << "\n    hub_radius: " << p.hub_radius
+      << "\n    chord: " << p.chord << "\n    blades: " << p.blades << "\n    rpm: " << p.rpm
+      << "\n    phase_deg: " << p.phase_deg << "\n";
   }
   return s.str();
 }

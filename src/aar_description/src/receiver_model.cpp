@@ -222,4 +222,8 @@ TriangleMesh MakeReceiverMesh(const ReceiverModelOptions& o) {
   return mesh;
 }
 
+Eigen::Vector3d PropellerHubInReceiver(double side) {
+  return {3.30, side * kNacelleY, WingZ(kNacelleY) + 0.05};
+}
+
 }  // namespace aar_description

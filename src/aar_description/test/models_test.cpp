@@ -154,7 +154,28 @@ TEST(ReceiverDescription, ShippedDescriptionsLoad) {
   EXPECT_TRUE(
       c12.T_tanker_receiver_contact.translation().isApprox(Eigen::Vector3d(-35.0, 0, -10.19)));
 
+  // Issue 16: the C-12's windscreen (glass triangles only on the nose) and its two propellers.
+  ASSERT_EQ(c12.propellers.size(), 2u);
+  EXPECT_LT((c12.propellers[0].hub - PropellerHubInReceiver(1.0)).norm(), 1e-9);  // 10 digits
+  EXPECT_LT((c12.propellers[1].hub - PropellerHubInReceiver(-1.0)).norm(), 1e-9);
+  EXPECT_EQ(c12.propellers[0].blades, 4);
+  // The windscreen lies on the nose, on its upper side: triangles of the nose only reach into it.
+  ASSERT_TRUE(c12.has_canopy);
+  int in_canopy = 0;
+  for (size_t t = 0; t < c12_mesh.triangles.size(); ++t) {
+    const auto& tri = c12_mesh.triangles[t];
+    const Eigen::Vector3d centre =
+        (c12_mesh.vertices[tri[0]] + c12_mesh.vertices[tri[1]] + c12_mesh.vertices[tri[2]]) / 3.0;
+    if (!c12.canopy.contains(centre) || c12_mesh.TriangleNormal(static_cast<int>(t)).z() <= 0.2)
+      continue;
+    ++in_canopy;
+    EXPECT_EQ(c12_mesh.part_names[c12_mesh.triangle_parts[t]], "nose") << t;
+  }
+  EXPECT_GT(in_canopy, 10);
+
   const ReceiverDescription rq4 = LoadReceiverDescription(kModels + "/rq4.yaml");
+  EXPECT_TRUE(rq4.propellers.empty());
+  EXPECT_FALSE(rq4.has_canopy);
   EXPECT_EQ(rq4.static_parts, (std::vector<std::string>{"left_wing", "right_wing", "nose"}));
   EXPECT_EQ(rq4.receptacle, UavReceptacleInReceiver());
   // The station-axes file, mapped by the description, is the model built in the body frame.
@@ -259,6 +280,27 @@ TEST_F(BadReceiver, RefusedWithTheFileAndTheProblemNamed) {
       Write("part.yaml",
             "name: x\nmesh: c12.obj\nmax_open_length: 2\nstatic_parts: [left_wing, canard]\n"));
   EXPECT_NE(part.find("static part 'canard' is not a part of"), std::string::npos) << part;
+  // Propellers and the canopy (issue 16): each key checked, inside the list too.
+  const std::string head = "name: x\nmesh: c12.obj\nmax_open_length: 2\n";
+  for (const auto& [text, expected] : std::vector<std::pair<std::string, std::string>>{
+           {"propellers: [{hub: [3, 2, 0], blades: 2.5}]",
+            "'propellers[0]/blades' must be a whole number from 1 to 16"},
+           {"propellers: [{hub: [3, 2, 0]}, {hub: [3, -2, 0], rmp: 1700}]",
+            "unknown key 'propellers[1]/rmp'"},
+           {"propellers: [{radius: 1}]", "'propellers[0]/hub' must be a list of three numbers"},
+           {"propellers: [{hub: [3, 2, 0], radius: 0.1, hub_radius: 0.2}]",
+            "'propellers[0]': radius must be positive and above hub_radius"},
+           {"propellers: [{hub: [3, 2, 0], axis: [0, 0, 0]}]",
+            "'propellers[0]/axis' must not be zero"},
+           {"propellers: {hub: [3, 2, 0]}", "'propellers' must be a list of maps"},
+           {"canopy: {min: [4, -1, 0], max: [3, 1, 1]}", "'canopy': min must not exceed max"},
+           {"canopy: {min: [4, -1, 0]}", "'canopy/max' must be a list of three numbers"}}) {
+    const std::string refusal = Refusal(Write("props.yaml", head + text + "\n"));
+    EXPECT_NE(refusal.find("props.yaml: " + expected), std::string::npos)
+        << text << ": " << refusal;
+  }
+  EXPECT_EQ(Refusal(Write("props_ok.yaml", head + "propellers: [{hub: [3, 2, 0], blades: 3}]\n")),
+            "");
 }
 
 TEST(BoomModel, CollisionPartsAreClosedConvexAndAboutADozen) {

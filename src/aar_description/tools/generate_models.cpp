@@ -100,6 +100,18 @@ int main(int argc, char** argv) {
     // run (within 1 cm of ContactPose's -34.998, 0, -10.199).
     c12.T_tanker_receiver_contact = aar_geometry::MakeTransform({-35.0, 0.0, -10.19}, kTrim);
     c12.contact_rpy_deg = kTrimDeg;
+    // The cockpit's windscreen: the upper nose from station 4.15 to 4.95 m.
+    c12.has_canopy = true;
+    c12.canopy =
+        Eigen::AlignedBox3d(Eigen::Vector3d(4.15, -0.8, 0.45), Eigen::Vector3d(4.95, 0.8, 1.0));
+    // Four-blade, 2.5 m propellers (Hartzell, King Air 200 class) at cruise rpm, both turning
+    // clockwise seen from behind (PT6A engines); the mesh leaves them out.
+    for (double side : {1.0, -1.0}) {
+      PropellerDescription prop;
+      prop.hub = PropellerHubInReceiver(side);
+      prop.phase_deg = side > 0 ? 0.0 : 30.0;  // the engines are not synchronised
+      c12.propellers.push_back(prop);
+    }
     WriteText(dir + "/c12.yaml",
               ReceiverDescriptionYaml(c12,
                                       "C-12 / King Air 200 class receiver; the mesh is in "

@@ -15,6 +15,13 @@ layout(location = 0) in vec3 in_position;  // object frame [m]
 layout(location = 1) in vec3 in_normal;    // object frame
 layout(location = 2) in float in_part;
 uniform mat4 u_optical_from_object;
+#ifdef SUN
+uniform vec3 u_tanker_offset;    // [m] the object's origin in the tanker frame
+uniform mat4 u_sun_from_object;  // into the shadow map's clip space
+out vec3 v_tanker;
+out vec4 v_sun;
+flat out float v_up;  // the face normal's object z
+#endif
 uniform mat3 u_tanker_from_object;
 uniform vec4 u_projection;  // 2fx/w, 2(cx+0.5)/w - 1, 2fy/h, 1 - 2(cy+0.5)/h
 uniform vec2 u_depth;       // z_clip = a z + b
@@ -28,6 +35,11 @@ void main() {
   v_normal = u_tanker_from_object * in_normal;
   v_depth = p.z;
   v_part = int(in_part + 0.5);
+#ifdef SUN
+  v_tanker = u_tanker_from_object * in_position + u_tanker_offset;
+  v_sun = u_sun_from_object * vec4(in_position, 1.0);
+  v_up = in_normal.z;
+#endif
   gl_Position = vec4(u_projection.x * p.x + u_projection.y * p.z,
                      -u_projection.z * p.y + u_projection.w * p.z,
                      u_depth.x * p.z + u_depth.y, p.z);
@@ -44,6 +56,19 @@ flat in int v_part;
 uniform int u_label;
 uniform int u_surface;  // 0 aircraft paint, 1 boom stripes
 uniform vec3 u_sun;
+#ifdef SUN
+in vec3 v_tanker;
+in vec4 v_sun;
+flat in float v_up;
+uniform vec3 u_glass_min, u_glass_max;  // [m] object frame: the windscreen (empty: none)
+uniform vec3 u_camera;  // [m] camera centre, tanker frame
+uniform float u_direct, u_ambient;
+uniform vec3 u_specular;  // paint, metal, glass
+uniform int u_shadows;
+uniform sampler2DShadow u_shadow_map;
+uniform float u_shadow_texel;  // 1 / map size
+uniform vec2 u_shadow_bias;    // [m] one texel's size; depth per metre
+#endif
 layout(location = 0) out float out_intensity;
 layout(location = 1) out uint out_label;
 layout(location = 2) out float out_depth;
@@ -99,8 +124,41 @@ void main() {
   n += 0.20 * (ValueNoise(v_object / 0.04, salt + 3u) - 0.5) * Visible(0.04, footprint);
   albedo = clamp(albedo + n, 0.05, 0.95);
 
+#ifdef SUN
+  // Skylight, the sun where the shadow map sees this point, and Blinn-Phong glare; the radiance is
+  // not clipped here (glare above 1 saturates in the sensor).
+  vec3 nrm = normalize(v_normal);
+  vec3 to_camera = normalize(u_camera - v_tanker);
+  if (dot(nrm, to_camera) < 0.0) nrm = -nrm;  // the side the camera sees
+  float specular = u_surface == 1 ? u_specular.y : u_specular.x;
+  float shininess = u_surface == 1 ? 60.0 : 25.0;
+  bool glass = all(greaterThanEqual(v_object, u_glass_min)) &&
+               all(lessThanEqual(v_object, u_glass_max)) && v_up > 0.2;
+  if (glass) {  // windscreen: dark tinted glass, a sharp reflection of the sun
+    albedo = 0.10 + 0.2 * (albedo - 0.5);
+    specular = u_specular.z;
+    shininess = 500.0;
+  }
+  float ns = dot(nrm, u_sun);
+  float lit = ns > 0.0 ? 1.0 : 0.0;
+  if (u_shadows != 0 && ns > 0.0) {
+    vec3 m = v_sun.xyz * 0.5 + 0.5;
+    // A grazing sun needs more bias: the surface spans more depth across one texel.
+    float slope = sqrt(max(1.0 - ns * ns, 0.0)) / max(ns, 0.2);
+    float ref = m.z - u_shadow_bias.y * u_shadow_bias.x * (1.5 + 2.0 * slope);
+    float sum = 0.0;  // 3x3 percentage-closer filter of 2x2 hardware comparisons
+    for (int i = -1; i <= 1; ++i)
+      for (int j = -1; j <= 1; ++j)
+        sum += texture(u_shadow_map, vec3(m.xy + vec2(i, j) * u_shadow_texel, ref));
+    lit = sum / 9.0;
+  }
+  vec3 h = normalize(u_sun + to_camera);
+  float glare = specular * pow(max(dot(nrm, h), 0.0), shininess) * lit;
+  out_intensity = albedo * (u_ambient + u_direct * max(ns, 0.0) * lit) + u_direct * glare;
+#else
   float shade = 0.45 + 0.55 * abs(dot(normalize(v_normal), u_sun));
   out_intensity = clamp(albedo * shade, 0.0, 1.0);
+#endif
   out_label = uint(u_label);
   out_depth = v_depth;
 }
@@ -208,12 +266,92 @@ void main() {
 }
 )";
 
+// The sun's shadow map: depth along the sun's direction, orthographic, fitted to what is drawn.
+const char* kShadowVertexShader = R"(#version 450 core
+layout(location = 0) in vec3 in_position;
+uniform mat4 u_clip_from_object;
+void main() { gl_Position = u_clip_from_object * vec4(in_position, 1.0); }
+)";
+const char* kShadowFragmentShader = R"(#version 450 core
+void main() {}
+)";
+
+// Propellers (issue 16): a disc quad in the propeller's plane; each pixel's coverage is the
+// fraction of the exposure during which some blade lies over it (blades of angular half width
+// atan(chord / 2r) turning from u_angle through u_swept). Pass 0 blends the radiance by that
+// coverage; pass 1 writes the label and depth where it is at least one half.
+const char* kPropellerVertexShader = R"(#version 450 core
+uniform mat4 u_optical_from_disc;
+uniform vec4 u_projection;
+uniform vec2 u_depth;
+uniform float u_radius;
+out vec2 v_disc;  // [m] disc y, z
+out float v_depth;
+const vec2 kCorner[6] = vec2[6](vec2(-1, -1), vec2(1, -1), vec2(1, 1), vec2(-1, -1), vec2(1, 1),
+                                vec2(-1, 1));
+void main() {
+  v_disc = u_radius * kCorner[gl_VertexID];
+  vec3 p = (u_optical_from_disc * vec4(0.0, v_disc, 1.0)).xyz;
+  v_depth = p.z;
+  gl_Position = vec4(u_projection.x * p.x + u_projection.y * p.z,
+                     -u_projection.z * p.y + u_projection.w * p.z,
+                     u_depth.x * p.z + u_depth.y, p.z);
+}
+)";
+const char* kPropellerFragmentShader = R"(#version 450 core
+in vec2 v_disc;
+in float v_depth;
+uniform float u_radius, u_hub, u_half_chord, u_angle, u_swept;
+uniform int u_blades;
+uniform vec2 u_blade;  // radiance of the blade and of its painted tip
+uniform int u_pass;
+layout(location = 0) out vec4 out_color;
+layout(location = 1) out uint out_label;
+layout(location = 2) out float out_depth;
+const float kTwoPi = 6.28318530718;
+void main() {
+  float r = length(v_disc);
+  if (r > u_radius || r < u_hub) discard;
+  float period = kTwoPi / float(u_blades);
+  float a = atan(u_half_chord, r);
+  float d = mod(atan(v_disc.y, v_disc.x) - u_angle, period);  // behind blade 0's start, [0, period)
+  float cover;
+  if (u_swept <= 1e-6) {
+    cover = min(d, period - d) < a ? 1.0 : 0.0;
+  } else if (u_swept >= kTwoPi) {
+    cover = min(2.0 * a / period, 1.0);
+  } else {  // the blade centres sweep [0, u_swept]: covered while within a of d + m period
+    float total = 0.0;
+    for (int m = -1; m < 64; ++m) {
+      float c = d + float(m) * period;
+      if (c - a > u_swept) break;
+      total += max(0.0, min(c + a, u_swept) - max(c - a, 0.0));
+    }
+    cover = min(total / u_swept, 1.0);
+  }
+  if (cover <= 0.0 || (u_pass == 1 && cover < 0.5)) discard;
+  out_color = vec4(r > u_radius - 0.12 ? u_blade.y : u_blade.x, 0.0, 0.0, cover);
+  out_label = 5u;
+  out_depth = v_depth;
+}
+)";
+
 struct Mesh {
   GLuint vao = 0, vbo = 0;
   GLsizei vertices = 0;
   Label label;
   Surface surface;
+  Eigen::AlignedBox3d box;    // object frame
+  Eigen::AlignedBox3d glass;  // object frame: windscreen (empty: none)
 };
+
+// The same shader source with SUN defined: a program of its own, so that the ideal world's
+// program stays the one whose images the tests compare bit for bit.
+std::string WithSun(const char* source) {
+  std::string s(source);
+  const std::string version = "#version 450 core\n";
+  return version + "#define SUN 1\n" + s.substr(version.size());
+}
 
 GLuint Compile(GLenum type, const char* source) {
   const GLuint shader = glCreateShader(type);
@@ -257,7 +395,13 @@ struct Renderer::Gl {
   EGLContext context = EGL_NO_CONTEXT;
   GLuint program = 0, framebuffer = 0;
   GLuint background_program = 0, background_vao = 0;  // 0 without a background
-  GLuint color[3] = {0, 0, 0};                        // radiance R32F, label R8UI, depth R32F
+  GLuint sun_program = 0;                             // 0 without the sun
+  GLuint shadow_program = 0, shadow_framebuffer = 0, shadow_map = 0;
+  std::vector<DrawItem> shadow_items;  // what the shadow map shows (valid while shadow_valid)
+  bool shadow_valid = false;
+  Eigen::Matrix4d shadow_clip_from_tanker = Eigen::Matrix4d::Identity();
+  GLuint propeller_program = 0, empty_vao = 0;
+  GLuint color[3] = {0, 0, 0};  // radiance R32F, label R8UI, depth R32F
   GLuint depth_buffer = 0;
   std::vector<Mesh> meshes;
 
@@ -332,6 +476,7 @@ Renderer::Renderer(const RendererOptions& options)
       throw RenderError("cloud_altitude must be > 0 and below background_altitude");
     if (!(sc.cloud_min_range_m >= 0.0)) throw RenderError("cloud_min_range must not be negative");
   }
+  if (options_.sun.enabled) options_.sun.Validate();
   std::string tried;
   gl_->display = OpenDisplay(&tried);
   if (gl_->display == EGL_NO_DISPLAY) throw RenderError("no EGL display available: " + tried);
@@ -355,6 +500,32 @@ Renderer::Renderer(const RendererOptions& options)
   if (options_.scene.background != Background::kNone) {
     gl_->background_program = Link(kBackgroundVertexShader, kBackgroundFragmentShader);
     glGenVertexArrays(1, &gl_->background_vao);
+  }
+  gl_->propeller_program = Link(kPropellerVertexShader, kPropellerFragmentShader);
+  glGenVertexArrays(1, &gl_->empty_vao);
+  if (options_.sun.enabled) {
+    gl_->sun_program = Link(WithSun(kVertexShader).c_str(), WithSun(kFragmentShader).c_str());
+    // The shadow map: a depth texture compared in the shader (sampler2DShadow); outside it, lit.
+    const int size = options_.sun.shadow_map_size;
+    gl_->shadow_program = Link(kShadowVertexShader, kShadowFragmentShader);
+    glGenTextures(1, &gl_->shadow_map);
+    glBindTexture(GL_TEXTURE_2D, gl_->shadow_map);
+    glTexStorage2D(GL_TEXTURE_2D, 1, GL_DEPTH_COMPONENT32F, size, size);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_BORDER);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_BORDER);
+    const float far_border[4] = {1, 1, 1, 1};
+    glTexParameterfv(GL_TEXTURE_2D, GL_TEXTURE_BORDER_COLOR, far_border);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_COMPARE_FUNC, GL_LEQUAL);
+    glGenFramebuffers(1, &gl_->shadow_framebuffer);
+    glBindFramebuffer(GL_FRAMEBUFFER, gl_->shadow_framebuffer);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, gl_->shadow_map, 0);
+    glDrawBuffer(GL_NONE);
+    glReadBuffer(GL_NONE);
+    if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+      throw RenderError("the sun's shadow-map framebuffer is incomplete");
   }
 
   glGenFramebuffers(1, &gl_->framebuffer);
@@ -397,6 +568,14 @@ Renderer::~Renderer() {
     glDeleteRenderbuffers(1, &gl_->depth_buffer);
     glDeleteFramebuffers(1, &gl_->framebuffer);
     glDeleteProgram(gl_->program);
+    glDeleteProgram(gl_->propeller_program);
+    glDeleteVertexArrays(1, &gl_->empty_vao);
+    if (gl_->sun_program) {
+      glDeleteProgram(gl_->sun_program);
+      glDeleteProgram(gl_->shadow_program);
+      glDeleteFramebuffers(1, &gl_->shadow_framebuffer);
+      glDeleteTextures(1, &gl_->shadow_map);
+    }
     if (gl_->background_program) glDeleteProgram(gl_->background_program);
     if (gl_->background_vao) glDeleteVertexArrays(1, &gl_->background_vao);
     eglMakeCurrent(gl_->display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
@@ -469,7 +648,8 @@ void main() { out_intensity = texelFetch(u_radiance, ivec2(gl_FragCoord.xy), 0).
   return out;
 }
 
-int Renderer::AddMesh(const aar_geometry::TriangleMesh& mesh, Label label, Surface surface) {
+int Renderer::AddMesh(const aar_geometry::TriangleMesh& mesh, Label label, Surface surface,
+                      const Eigen::AlignedBox3d& glass) {
   mesh.Validate();
   CurrentContext current(*gl_);
   // Flat shading: every triangle gets its own three vertices with the face normal and part.
@@ -488,6 +668,8 @@ int Renderer::AddMesh(const aar_geometry::TriangleMesh& mesh, Label label, Surfa
   Mesh m;
   m.label = label;
   m.surface = surface;
+  m.glass = glass;
+  for (const Eigen::Vector3d& p : mesh.vertices) m.box.extend(p);
   m.vertices = static_cast<GLsizei>(mesh.triangles.size() * 3);
   glGenVertexArrays(1, &m.vao);
   glBindVertexArray(m.vao);
@@ -522,8 +704,11 @@ void Renderer::DrawBackground(const Eigen::Isometry3d& T_tanker_optical) {
   glUniform3f(glGetUniformLocation(p, "u_camera"), o.x(), o.y(), o.z());
   glUniform1f(glGetUniformLocation(p, "u_sky"), static_cast<float>(options_.sky_level / 255.0));
   // The mesh shader's shade of a level surface facing up, so ground and aircraft match.
-  const double up = std::abs(options_.sun_in_tanker.normalized().z());
-  glUniform1f(glGetUniformLocation(p, "u_shade"), static_cast<float>(0.45 + 0.55 * up));
+  const SunOptions& sun = options_.sun;
+  const double up =
+      sun.enabled ? sun.DirectionInTanker().z() : std::abs(options_.sun_in_tanker.normalized().z());
+  const double shade = sun.enabled ? sun.ambient + sun.direct * up : 0.45 + 0.55 * up;
+  glUniform1f(glGetUniformLocation(p, "u_shade"), static_cast<float>(shade));
   glUniform1i(glGetUniformLocation(p, "u_kind"), static_cast<int>(sc.background));
   glUniform1f(glGetUniformLocation(p, "u_ground_z"), static_cast<float>(-sc.background_altitude_m));
   glUniform1f(glGetUniformLocation(p, "u_cloud_z"), static_cast<float>(-sc.cloud_altitude_m));
@@ -539,11 +724,16 @@ void Renderer::DrawBackground(const Eigen::Isometry3d& T_tanker_optical) {
 }
 
 RenderedView Renderer::Render(const Eigen::Isometry3d& T_tanker_optical,
-                              const std::vector<DrawItem>& items, bool want_label,
-                              bool want_depth) {
+                              const std::vector<DrawItem>& items, bool want_label, bool want_depth,
+                              const std::vector<PropellerItem>& propellers) {
   const CameraIntrinsics& k = options_.intrinsics;
   CurrentContext current(*gl_);
+  const SunOptions& sun_options = options_.sun;
+  const bool sun = sun_options.enabled;
+  const Eigen::Matrix4d shadow_clip_from_tanker =
+      sun && sun_options.shadows ? UpdateShadowMap(items) : Eigen::Matrix4d::Identity();
   glBindFramebuffer(GL_FRAMEBUFFER, gl_->framebuffer);
+  glViewport(0, 0, k.width, k.height);
   const float sky[4] = {static_cast<float>(options_.sky_level / 255.0), 0, 0, 0};
   const GLuint background[4] = {static_cast<GLuint>(Label::kBackground), 0, 0, 0};
   const float no_depth[4] = {0, 0, 0, 0};
@@ -553,22 +743,51 @@ RenderedView Renderer::Render(const Eigen::Isometry3d& T_tanker_optical,
   glClear(GL_DEPTH_BUFFER_BIT);
   if (gl_->background_program) DrawBackground(T_tanker_optical);
 
-  glUseProgram(gl_->program);
-  const GLint u_optical = glGetUniformLocation(gl_->program, "u_optical_from_object");
-  const GLint u_tanker = glGetUniformLocation(gl_->program, "u_tanker_from_object");
-  const GLint u_label = glGetUniformLocation(gl_->program, "u_label");
-  const GLint u_surface = glGetUniformLocation(gl_->program, "u_surface");
+  const GLuint program = sun ? gl_->sun_program : gl_->program;
+  glUseProgram(program);
+  const GLint u_optical = glGetUniformLocation(program, "u_optical_from_object");
+  const GLint u_tanker = glGetUniformLocation(program, "u_tanker_from_object");
+  const GLint u_label = glGetUniformLocation(program, "u_label");
+  const GLint u_surface = glGetUniformLocation(program, "u_surface");
+  const GLint u_tanker_offset = glGetUniformLocation(program, "u_tanker_offset");
+  const GLint u_sun_from_object = glGetUniformLocation(program, "u_sun_from_object");
+  const GLint u_glass_min = glGetUniformLocation(program, "u_glass_min");
+  const GLint u_glass_max = glGetUniformLocation(program, "u_glass_max");
   // Pixel centres: image column u maps to window x = u + 0.5; rows are flipped on read-back.
-  glUniform4f(glGetUniformLocation(gl_->program, "u_projection"),
+  glUniform4f(glGetUniformLocation(program, "u_projection"),
               static_cast<float>(2.0 * k.fx / k.width),
               static_cast<float>(2.0 * (k.cx + 0.5) / k.width - 1.0),
               static_cast<float>(2.0 * k.fy / k.height),
               static_cast<float>(1.0 - 2.0 * (k.cy + 0.5) / k.height));
   const double n = options_.near_m, f = options_.far_m;
-  glUniform2f(glGetUniformLocation(gl_->program, "u_depth"), static_cast<float>((f + n) / (f - n)),
+  glUniform2f(glGetUniformLocation(program, "u_depth"), static_cast<float>((f + n) / (f - n)),
               static_cast<float>(-2.0 * f * n / (f - n)));
-  const Eigen::Vector3f sun = options_.sun_in_tanker.normalized().cast<float>();
-  glUniform3f(glGetUniformLocation(gl_->program, "u_sun"), sun.x(), sun.y(), sun.z());
+  const Eigen::Vector3f light =
+      (sun ? sun_options.DirectionInTanker() : options_.sun_in_tanker.normalized()).cast<float>();
+  glUniform3f(glGetUniformLocation(program, "u_sun"), light.x(), light.y(), light.z());
+  if (sun) {
+    const Eigen::Vector3f c = T_tanker_optical.translation().cast<float>();
+    glUniform3f(glGetUniformLocation(program, "u_camera"), c.x(), c.y(), c.z());
+    glUniform1f(glGetUniformLocation(program, "u_direct"), static_cast<float>(sun_options.direct));
+    glUniform1f(glGetUniformLocation(program, "u_ambient"),
+                static_cast<float>(sun_options.ambient));
+    glUniform3f(glGetUniformLocation(program, "u_specular"),
+                static_cast<float>(sun_options.paint_specular),
+                static_cast<float>(sun_options.metal_specular),
+                static_cast<float>(sun_options.glass_specular));
+    glUniform1i(glGetUniformLocation(program, "u_shadows"), sun_options.shadows ? 1 : 0);
+    glActiveTexture(GL_TEXTURE0);
+    glBindTexture(GL_TEXTURE_2D, gl_->shadow_map);
+    glUniform1i(glGetUniformLocation(program, "u_shadow_map"), 0);
+    glUniform1f(glGetUniformLocation(program, "u_shadow_texel"),
+                static_cast<float>(1.0 / sun_options.shadow_map_size));
+    // One texel's size [m] and window depth per metre along the sun (from the fitted map).
+    const double texel_m =
+        2.0 / shadow_clip_from_tanker.row(0).head<3>().norm() / sun_options.shadow_map_size;
+    const double depth_per_m = 0.5 * shadow_clip_from_tanker.row(2).head<3>().norm();
+    glUniform2f(glGetUniformLocation(program, "u_shadow_bias"), static_cast<float>(texel_m),
+                static_cast<float>(depth_per_m));
+  }
 
   const Eigen::Isometry3d T_optical_tanker = T_tanker_optical.inverse();
   for (const DrawItem& item : items) {
@@ -583,12 +802,25 @@ RenderedView Renderer::Render(const Eigen::Isometry3d& T_tanker_optical,
     const Eigen::Matrix3f tanker_from_object = item.T_tanker_object.linear().cast<float>();
     glUniformMatrix4fv(u_optical, 1, GL_FALSE, optical_from_object.data());
     glUniformMatrix3fv(u_tanker, 1, GL_FALSE, tanker_from_object.data());
+    if (sun) {
+      // An empty box (min above max) makes no glass.
+      Eigen::Vector3f lo = Eigen::Vector3f::Constant(1e9f), hi = Eigen::Vector3f::Constant(-1e9f);
+      if (!m.glass.isEmpty()) lo = m.glass.min().cast<float>(), hi = m.glass.max().cast<float>();
+      glUniform3f(u_glass_min, lo.x(), lo.y(), lo.z());
+      glUniform3f(u_glass_max, hi.x(), hi.y(), hi.z());
+      const Eigen::Vector3f offset = item.T_tanker_object.translation().cast<float>();
+      glUniform3f(u_tanker_offset, offset.x(), offset.y(), offset.z());
+      const Eigen::Matrix4f sun_from_object =
+          (shadow_clip_from_tanker * item.T_tanker_object.matrix()).cast<float>();
+      glUniformMatrix4fv(u_sun_from_object, 1, GL_FALSE, sun_from_object.data());
+    }
     glUniform1i(u_label, static_cast<int>(m.label));
     glUniform1i(u_surface, static_cast<int>(m.surface));
     glBindVertexArray(m.vao);
     glDrawArrays(GL_TRIANGLES, 0, m.vertices);
   }
   glBindVertexArray(0);
+  if (!propellers.empty()) DrawPropellers(T_tanker_optical, propellers);
 
   RenderedView view;
   auto read = [&](GLenum attachment, GLenum format, GLenum type, auto& image) {
@@ -609,6 +841,157 @@ RenderedView Renderer::Render(const Eigen::Isometry3d& T_tanker_optical,
   if (want_depth) read(GL_COLOR_ATTACHMENT2, GL_RED, GL_FLOAT, view.depth);
   CheckGl("render");
   return view;
+}
+
+Eigen::Matrix4d Renderer::UpdateShadowMap(const std::vector<DrawItem>& items) {
+  auto same = [](const DrawItem& a, const DrawItem& b) {
+    return a.mesh == b.mesh && a.T_tanker_object.matrix() == b.T_tanker_object.matrix();
+  };
+  if (gl_->shadow_valid && items.size() == gl_->shadow_items.size() &&
+      std::equal(items.begin(), items.end(), gl_->shadow_items.begin(), same)) {
+    return gl_->shadow_clip_from_tanker;  // the other camera of the pair
+  }
+  // The sun's frame: z towards the sun, x and y across; fitted to the boxes of what is drawn.
+  const Eigen::Vector3d s = options_.sun.DirectionInTanker();
+  const Eigen::Vector3d any =
+      std::abs(s.z()) < 0.9 ? Eigen::Vector3d::UnitZ() : Eigen::Vector3d::UnitX();
+  const Eigen::Vector3d x = any.cross(s).normalized(), y = s.cross(x);
+  Eigen::Matrix3d R_sun_tanker;
+  R_sun_tanker << x.transpose(), y.transpose(), s.transpose();
+  Eigen::AlignedBox3d bounds;
+  for (const DrawItem& item : items) {
+    if (item.mesh < 0 || item.mesh >= static_cast<int>(gl_->meshes.size())) {
+      throw RenderError("draw item refers to mesh " + std::to_string(item.mesh));
+    }
+    const Eigen::AlignedBox3d& box = gl_->meshes[item.mesh].box;
+    for (int c = 0; c < 8; ++c) {
+      bounds.extend(R_sun_tanker * (item.T_tanker_object *
+                                    box.corner(static_cast<Eigen::AlignedBox3d::CornerType>(c))));
+    }
+  }
+  if (bounds.isEmpty()) bounds.extend(Eigen::Vector3d::Zero());
+  bounds.min() -= Eigen::Vector3d(0.5, 0.5, 1.0);  // [m] margins
+  bounds.max() += Eigen::Vector3d(0.5, 0.5, 1.0);
+  const Eigen::Vector3d lo = bounds.min(), size = bounds.sizes();
+  const double extent = std::max(size.x(), size.y());  // square texels
+  // x, y -> [-1, 1]; the sun's z (larger: nearer the sun) -> depth -1 (near) .. 1 (far).
+  Eigen::Matrix4d clip_from_sun = Eigen::Matrix4d::Identity();
+  clip_from_sun(0, 0) = 2.0 / extent;
+  clip_from_sun(0, 3) = -1.0 - 2.0 * lo.x() / extent;
+  clip_from_sun(1, 1) = 2.0 / extent;
+  clip_from_sun(1, 3) = -1.0 - 2.0 * lo.y() / extent;
+  clip_from_sun(2, 2) = -2.0 / size.z();
+  clip_from_sun(2, 3) = 1.0 + 2.0 * lo.z() / size.z();
+  Eigen::Matrix4d sun_from_tanker = Eigen::Matrix4d::Identity();
+  sun_from_tanker.topLeftCorner<3, 3>() = R_sun_tanker;
+  const Eigen::Matrix4d clip_from_tanker = clip_from_sun * sun_from_tanker;
+
+  const int map = options_.sun.shadow_map_size;
+  glBindFramebuffer(GL_FRAMEBUFFER, gl_->shadow_framebuffer);
+  glViewport(0, 0, map, map);
+  glClear(GL_DEPTH_BUFFER_BIT);
+  glUseProgram(gl_->shadow_program);
+  const GLint u_clip = glGetUniformLocation(gl_->shadow_program, "u_clip_from_object");
+  glEnable(GL_POLYGON_OFFSET_FILL);
+  glPolygonOffset(1.0f, 2.0f);
+  for (const DrawItem& item : items) {
+    const Eigen::Matrix4f clip_from_object =
+        (clip_from_tanker * item.T_tanker_object.matrix()).cast<float>();
+    glUniformMatrix4fv(u_clip, 1, GL_FALSE, clip_from_object.data());
+    const Mesh& m = gl_->meshes[item.mesh];
+    glBindVertexArray(m.vao);
+    glDrawArrays(GL_TRIANGLES, 0, m.vertices);
+  }
+  glBindVertexArray(0);
+  glDisable(GL_POLYGON_OFFSET_FILL);
+  CheckGl("shadow map");
+  gl_->shadow_items = items;
+  gl_->shadow_clip_from_tanker = clip_from_tanker;
+  gl_->shadow_valid = true;
+  return clip_from_tanker;
+}
+
+void Renderer::DrawPropellers(const Eigen::Isometry3d& T_tanker_optical,
+                              const std::vector<PropellerItem>& propellers) {
+  const CameraIntrinsics& k = options_.intrinsics;
+  const GLuint p = gl_->propeller_program;
+  glUseProgram(p);
+  glUniform4f(glGetUniformLocation(p, "u_projection"), static_cast<float>(2.0 * k.fx / k.width),
+              static_cast<float>(2.0 * (k.cx + 0.5) / k.width - 1.0),
+              static_cast<float>(2.0 * k.fy / k.height),
+              static_cast<float>(1.0 - 2.0 * (k.cy + 0.5) / k.height));
+  const double n = options_.near_m, f = options_.far_m;
+  glUniform2f(glGetUniformLocation(p, "u_depth"), static_cast<float>((f + n) / (f - n)),
+              static_cast<float>(-2.0 * f * n / (f - n)));
+  const Eigen::Isometry3d T_optical_tanker = T_tanker_optical.inverse();
+  glBindVertexArray(gl_->empty_vao);
+  glDepthMask(GL_FALSE);  // translucent: what lies behind stays in the depth buffer
+  for (const PropellerItem& prop : propellers) {
+    if (!(prop.radius_m > prop.hub_radius_m && prop.hub_radius_m >= 0.0 && prop.chord_m > 0.0 &&
+          prop.blades > 0 && prop.swept_rad >= 0.0)) {
+      throw RenderError(
+          "a propeller needs radius > hub radius >= 0, chord > 0, blades > 0 and a "
+          "non-negative sweep");
+    }
+    const Eigen::Matrix4f optical_from_disc =
+        (T_optical_tanker * prop.T_tanker_disc).matrix().cast<float>();
+    glUniformMatrix4fv(glGetUniformLocation(p, "u_optical_from_disc"), 1, GL_FALSE,
+                       optical_from_disc.data());
+    glUniform1f(glGetUniformLocation(p, "u_radius"), static_cast<float>(prop.radius_m));
+    glUniform1f(glGetUniformLocation(p, "u_hub"), static_cast<float>(prop.hub_radius_m));
+    glUniform1f(glGetUniformLocation(p, "u_half_chord"), static_cast<float>(0.5 * prop.chord_m));
+    glUniform1f(glGetUniformLocation(p, "u_angle"),
+                static_cast<float>(std::remainder(prop.angle_rad, 2.0 * M_PI)));
+    glUniform1f(glGetUniformLocation(p, "u_swept"), static_cast<float>(prop.swept_rad));
+    glUniform1i(glGetUniformLocation(p, "u_blades"), prop.blades);
+    // Black blades with white tips, lit as a surface square to the axis.
+    const Eigen::Vector3d axis = prop.T_tanker_disc.linear().col(0);
+    const SunOptions& sun = options_.sun;
+    const double facing = std::abs(
+        axis.dot(sun.enabled ? sun.DirectionInTanker() : options_.sun_in_tanker.normalized()));
+    const double shade = sun.enabled ? sun.ambient + sun.direct * facing : 0.45 + 0.55 * facing;
+    glUniform2f(glGetUniformLocation(p, "u_blade"), static_cast<float>(0.08 * shade),
+                static_cast<float>(0.85 * shade));
+    // Pass 0: the radiance, blended by coverage; pass 1: label and depth where covered most.
+    glUniform1i(glGetUniformLocation(p, "u_pass"), 0);
+    glEnablei(GL_BLEND, 0);
+    glBlendFunci(0, GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+    glColorMaski(1, GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+    glColorMaski(2, GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+    glDrawArrays(GL_TRIANGLES, 0, 6);
+    glDisablei(GL_BLEND, 0);
+    glColorMaski(0, GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+    glColorMaski(1, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    glColorMaski(2, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    glUniform1i(glGetUniformLocation(p, "u_pass"), 1);
+    glDrawArrays(GL_TRIANGLES, 0, 6);
+    glColorMaski(0, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+  }
+  glDepthMask(GL_TRUE);
+  glBindVertexArray(0);
+}
+
+Eigen::Vector3d SunOptions::DirectionInTanker() const {
+  const double az = azimuth_deg * M_PI / 180.0, el = elevation_deg * M_PI / 180.0;
+  // Bearing clockwise seen from above: towards the right wing is -y in the tanker frame.
+  return {std::cos(el) * std::cos(az), -std::cos(el) * std::sin(az), std::sin(el)};
+}
+
+void SunOptions::Validate() const {
+  auto check = [](bool ok, const char* key, const std::string& what) {
+    if (!ok) throw std::invalid_argument(std::string(key) + " " + what);
+  };
+  check(elevation_deg > 0.0 && elevation_deg <= 90.0, "sun_elevation_deg",
+        "must be in (0, 90]: a sun at or below the horizon lights nothing from above (got " +
+            std::to_string(elevation_deg) + ")");
+  check(std::isfinite(azimuth_deg), "sun_azimuth_deg", "must be a finite angle");
+  check(direct > 0.0 && direct <= 4.0, "sun_direct", "must be in (0, 4]");
+  check(ambient >= 0.0 && ambient <= 2.0, "sun_ambient", "must be in [0, 2]");
+  check(shadow_map_size >= 64 && shadow_map_size <= 8192, "sun_shadow_map_size",
+        "must be from 64 to 8192 texels");
+  check(paint_specular >= 0.0, "sun_paint_specular", "must not be negative");
+  check(metal_specular >= 0.0, "sun_metal_specular", "must not be negative");
+  check(glass_specular >= 0.0, "sun_glass_specular", "must not be negative");
 }
 
 }  // namespace aar_sim

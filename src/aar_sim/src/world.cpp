@@ -1,6 +1,7 @@
 #include "aar_sim/world.h"
 
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 #include <string>
 
@@ -92,7 +93,9 @@ World::World(const WorldOptions& options)
       for (const Eigen::Vector3d& p : visual.mesh.vertices) box.extend(visual.T_link_geometry * p);
     if (!box.isEmpty()) link_boxes_.emplace_back(link.name, box);
   }
-  receiver_handle_ = renderer_.AddMesh(receiver_, Label::kReceiver, Surface::kAircraftPaint);
+  receiver_handle_ = renderer_.AddMesh(
+      receiver_, Label::kReceiver, Surface::kAircraftPaint,
+      options.receiver.has_canopy ? options.receiver.canopy : Eigen::AlignedBox3d());
   for (const auto& link : boom_.links) {
     for (const auto& visual : link.visuals) {
       boom_elements_.push_back({renderer_.AddMesh(visual.mesh, Label::kBoom, Surface::kBoomStripes),
@@ -123,8 +126,11 @@ StereoFrame World::Render(const FlightPathRow& row, const BoomPose& boom, uint64
   const bool blur = sensor.motion_blur && exposure_end;
   const Eigen::Isometry3d T_tanker_left = options_.rig.T_tanker_left_optical,
                           T_tanker_right = options_.rig.T_tanker_right_optical();
-  frame.left = renderer_.Render(T_tanker_left, items, want_label || blur, want_depth || blur);
-  frame.right = renderer_.Render(T_tanker_right, items, want_label || blur, want_depth || blur);
+  const std::vector<PropellerItem> propellers = Propellers(row);
+  frame.left =
+      renderer_.Render(T_tanker_left, items, want_label || blur, want_depth || blur, propellers);
+  frame.right =
+      renderer_.Render(T_tanker_right, items, want_label || blur, want_depth || blur, propellers);
   const double gain = ExposureGain(sensor, frame.left.radiance);  // one for the pair
   for (int camera = 0; camera < 2; ++camera) {
     RenderedView& view = camera == 0 ? frame.left : frame.right;
@@ -149,6 +155,37 @@ StereoFrame World::Render(const FlightPathRow& row, const BoomPose& boom, uint64
     CropView(frame.right, view_margin_);
   }
   return frame;
+}
+
+std::vector<PropellerItem> World::Propellers(const FlightPathRow& row) const {
+  std::vector<PropellerItem> out;
+  if (options_.propellers == PropellerMode::kNone) return out;
+  const Eigen::Isometry3d T_tanker_receiver = row.T_tanker_receiver();
+  for (const aar_description::PropellerDescription& p : options_.receiver.propellers) {
+    // The disc's frame: x along the axis, y and z across it.
+    const Eigen::Vector3d x = p.axis.normalized();
+    const Eigen::Vector3d any =
+        std::abs(x.z()) < 0.9 ? Eigen::Vector3d::UnitZ() : Eigen::Vector3d::UnitY();
+    const Eigen::Vector3d y = any.cross(x).normalized();
+    Eigen::Isometry3d T_body_disc = Eigen::Isometry3d::Identity();
+    T_body_disc.linear() << x, y, x.cross(y);
+    T_body_disc.translation() = p.hub;
+    const double omega = p.rpm * 2.0 * M_PI / 60.0;  // [rad/s]
+    PropellerItem item;
+    item.T_tanker_disc = T_tanker_receiver * T_body_disc;
+    item.radius_m = p.radius;
+    item.hub_radius_m = p.hub_radius;
+    item.chord_m = p.chord;
+    item.blades = p.blades;
+    // The turn at path time t, reduced first so that long paths keep the angle's precision.
+    item.angle_rad = p.phase_deg * M_PI / 180.0 + std::fmod(omega * row.t, 2.0 * M_PI);
+    item.swept_rad = options_.propellers == PropellerMode::kDisc ? 2.0 * M_PI
+                     : options_.sensor.motion_blur ? std::abs(omega) * options_.sensor.exposure_time
+                                                   : 0.0;
+    if (omega < 0.0) item.angle_rad -= item.swept_rad;  // the same arc, swept backwards
+    out.push_back(item);
+  }
+  return out;
 }
 
 ViewMotion World::Motion(const Eigen::Isometry3d& T_tanker_optical, const StereoFrame& start,

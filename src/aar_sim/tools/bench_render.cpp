@@ -4,9 +4,10 @@
 // 2 ms with the path's motion, gain mismatch, auto-exposure) side by side with them off.
 //   bench_render FLIGHT_PATH [PAIRS_PER_POINT]
 // AAR_BENCH_NOISE: the read noise of the first two columns [grey levels] (default 2).
-// AAR_BENCH_SCENE=1 adds two columns with the issue-16 background on (terrain, clouds 0.4: the
-// config/realism/background.yaml preset): alone, and with the sensor effects (all that is on so
-// far), rendered in the same run.
+// AAR_BENCH_SCENE=1 adds four columns with issue 16's effects, rendered in the same run: the
+// background (terrain, clouds 0.4: config/realism/background.yaml) alone and with the sensor
+// effects; the sun with shadows and the propellers (sun.yaml, propellers.yaml) with the sensor
+// effects; and everything at once (config/realism/realistic.yaml's renderer and sensor settings).
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -42,7 +43,7 @@ int main(int argc, char** argv) {
     sensor.auto_exposure = true;
     aar_sim::World sensed(realistic);
     const bool scene = std::getenv("AAR_BENCH_SCENE") != nullptr;
-    std::unique_ptr<aar_sim::World> scene_world, scene_sensed;
+    std::unique_ptr<aar_sim::World> scene_world, scene_sensed, sun_world, all_world;
     if (scene) {
       aar_sim::WorldOptions o = options;
       o.renderer.scene.background = aar_sim::Background::kTerrain;
@@ -50,13 +51,18 @@ int main(int argc, char** argv) {
       scene_world = std::make_unique<aar_sim::World>(o);
       o.sensor = realistic.sensor;
       scene_sensed = std::make_unique<aar_sim::World>(o);
+      o.renderer.sun.enabled = true;
+      o.propellers = aar_sim::PropellerMode::kBlades;
+      all_world = std::make_unique<aar_sim::World>(o);
+      o.renderer.scene = aar_sim::SceneOptions();
+      sun_world = std::make_unique<aar_sim::World>(o);
     }
     const auto path = aar_sim::FlightPath::Load(path_file);
     std::printf("renderer: %s, %dx%d, %d pairs per point\n", world.renderer().gl_renderer().c_str(),
                 options.rig.intrinsics.width, options.rig.intrinsics.height, pairs);
     std::printf("%10s %12s %16s %22s %18s%s\n", "range [m]", "t [s]", "pairs/s (images)",
                 "pairs/s (+label+depth)", "pairs/s (+sensor)",
-                scene ? " pairs/s (+scene) (+scene+sensor)" : "");
+                scene ? " pairs/s (+scene) (+scene+sensor) (+sun+props+sensor) (everything)" : "");
     for (double fraction : {0.0, 0.5, 0.8, 1.0}) {
       const double t = path.start_time() + fraction * (path.end_time() - path.start_time());
       const auto row = path.At(t);
@@ -64,12 +70,14 @@ int main(int argc, char** argv) {
       const auto row_end = path.At(t + sensor.exposure_time);
       const aar_sim::SceneState end{row_end,
                                     row_end.boom.value_or(aar_description::DefaultBoomPose())};
-      aar_sim::World* worlds[5] = {&world, &world, &sensed, scene_world.get(), scene_sensed.get()};
-      double rate[5] = {0, 0, 0, 0, 0};
-      for (int column = 0; column < (scene ? 5 : 3); ++column) {
+      aar_sim::World* worlds[7] = {
+          &world,          &world,         &sensed, scene_world.get(), scene_sensed.get(),
+          sun_world.get(), all_world.get()};
+      double rate[7] = {0, 0, 0, 0, 0, 0, 0};
+      for (int column = 0; column < (scene ? 7 : 3); ++column) {
         aar_sim::World& w = *worlds[column];
         const bool extra = column == 1;
-        const aar_sim::SceneState* exposure_end = column == 2 || column == 4 ? &end : nullptr;
+        const aar_sim::SceneState* exposure_end = column == 2 || column >= 4 ? &end : nullptr;
         w.Render(row, boom, 0, extra, extra, exposure_end);  // warm-up (shader JIT)
         const auto start = std::chrono::steady_clock::now();
         for (int i = 0; i < pairs; ++i) w.Render(row, boom, i, extra, extra, exposure_end);
@@ -78,7 +86,7 @@ int main(int argc, char** argv) {
       }
       std::printf("%10.1f %12.1f %16.1f %22.1f %18.1f", row.position_m.norm(), t, rate[0], rate[1],
                   rate[2]);
-      if (scene) std::printf(" %16.1f %15.1f", rate[3], rate[4]);
+      if (scene) std::printf(" %16.1f %15.1f %19.1f %12.1f", rate[3], rate[4], rate[5], rate[6]);
       std::printf("\n");
     }
   } catch (const std::exception& e) {

@@ -216,7 +216,7 @@ TEST(Config, RealisticPresetHoldsEveryOtherPresetsValues) {
       ++keys;
     }
   }
-  EXPECT_GE(keys, 19);  // 6 background + 9 sensor + 4 turbulence keys today
+  EXPECT_GE(keys, 30);  // 6 background + 9 sensor + 4 turbulence + 10 sun + 1 propeller keys
 }
 
 // config/sim.yaml's raw cameras: off by default (rectified pinhole images), and its lens values
@@ -294,6 +294,51 @@ TEST(Config, SceneBackgroundOffByDefaultPresetLoadsBadValuesRefused) {
            {"cloud_coverage", XmlRpc::XmlRpcValue(1.5), "/sim_scene_bad/cloud_coverage"},
            {"cloud_altitude", XmlRpc::XmlRpcValue(5000.0), "/sim_scene_bad/cloud_altitude"},
            {"cloud_min_range", XmlRpc::XmlRpcValue(-3.0), "/sim_scene_bad/cloud_min_range"}}) {
+    bad.setParam(key, value);
+    try {
+      aar_sim::LoadSimNodeOptions(bad);
+      ADD_FAILURE() << key << " was accepted";
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find(text), std::string::npos) << e.what();
+    }
+    bad.deleteParam(key);
+  }
+}
+
+// Issue 16 sun and propeller keys: off by default (the ideal world's light, no propellers), the
+// presets turn them on, and out-of-range values (a sun below the horizon, say) are refused
+// naming the key.
+TEST(Config, SunAndPropellersOffByDefaultPresetsLoadBadValuesRefused) {
+  try {
+    const auto sim = aar_sim::LoadSimNodeOptions(ros::NodeHandle("/sim"));
+    EXPECT_FALSE(sim.world.renderer.sun.enabled);
+    EXPECT_EQ(sim.world.propellers, aar_sim::PropellerMode::kNone);
+    const auto sun = aar_sim::LoadSimNodeOptions(ros::NodeHandle("/realism_sun/sim"));
+    EXPECT_TRUE(sun.world.renderer.sun.enabled);
+    EXPECT_TRUE(sun.world.renderer.sun.shadows);
+    const auto props = aar_sim::LoadSimNodeOptions(ros::NodeHandle("/realism_propellers/sim"));
+    EXPECT_EQ(props.world.propellers, aar_sim::PropellerMode::kBlades);
+    EXPECT_EQ(props.world.receiver.propellers.size(), 2u);  // the C-12's, from c12.yaml
+  } catch (const std::exception& e) {
+    ADD_FAILURE() << e.what();
+  }
+  ros::NodeHandle bad("/sim_sun_bad");
+  std::string path;
+  ros::NodeHandle("/sim").getParam("flight_path", path);
+  bad.setParam("flight_path", path);
+  bad.setParam("sun", true);
+  for (const auto& [key, value, text] :
+       std::vector<std::tuple<std::string, XmlRpc::XmlRpcValue, std::string>>{
+           {"sun_elevation_deg", XmlRpc::XmlRpcValue(-5.0),
+            "/sim_sun_bad/sun_elevation_deg must be in (0, 90] deg: a sun at or below the horizon"},
+           {"sun_elevation_deg", XmlRpc::XmlRpcValue(0.0), "/sim_sun_bad/sun_elevation_deg"},
+           {"sun_direct", XmlRpc::XmlRpcValue(0.0), "/sim_sun_bad/sun_direct"},
+           {"sun_ambient", XmlRpc::XmlRpcValue(-0.1), "/sim_sun_bad/sun_ambient"},
+           {"sun_shadow_map_size", XmlRpc::XmlRpcValue(16), "/sim_sun_bad/sun_shadow_map_size"},
+           {"sun_glass_specular", XmlRpc::XmlRpcValue(-1.0), "/sim_sun_bad/sun_glass_specular"},
+           {"sun_shadows", XmlRpc::XmlRpcValue(3.0), "/sim_sun_bad/sun_shadows"},
+           {"propellers", XmlRpc::XmlRpcValue("spinning"),
+            "/sim_sun_bad/propellers must be one of"}}) {
     bad.setParam(key, value);
     try {
       aar_sim::LoadSimNodeOptions(bad);

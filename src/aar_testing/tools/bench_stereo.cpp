@@ -10,6 +10,9 @@
 // AAR_FLIGHT_PATH (its approach) put another receiver on another path. AAR_BACKGROUND (sea or
 // terrain, with config/realism/background.yaml's 40 % cloud layer) puts a background behind the
 // receiver: "other" then counts the background points that survive the stereo stage.
+// AAR_SUN=1 turns the sun on (config/realism/sun.yaml: shadows, glare) and AAR_PROPELLERS (blades
+// or disc; blades smeared over a 2 ms exposure) draws the receiver's propellers: "prop" counts
+// the points on pixels their blades cover at least half the exposure (issue 16).
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -49,6 +52,7 @@ struct Counts {
   int receiver = 0, boom = 0, other = 0;
   int background = 0;  // of `other`: on ground or cloud pixels (AAR_BACKGROUND)
   int far = 0;         // farther than 100 m from the camera: not on the receiver or boom
+  int propeller = 0;   // of `other`: on propeller pixels (AAR_PROPELLERS)
 };
 
 Counts Count(const aar_stereo::CloudPoints& cloud, const aar_sim::Image<uint8_t>& label) {
@@ -58,6 +62,7 @@ Counts Count(const aar_stereo::CloudPoints& cloud, const aar_sim::Image<uint8_t>
     const uint8_t l = label.data[cloud.pixel[i]];
     c.background += l == static_cast<uint8_t>(aar_sim::Label::kGround) ||
                     l == static_cast<uint8_t>(aar_sim::Label::kCloud);
+    c.propeller += l == static_cast<uint8_t>(aar_sim::Label::kPropeller);
     (l == static_cast<uint8_t>(aar_sim::Label::kReceiver) ? c.receiver
      : l == static_cast<uint8_t>(aar_sim::Label::kBoom)   ? c.boom
                                                           : c.other)++;
@@ -87,6 +92,14 @@ int main(int argc, char** argv) {
                                         ? aar_sim::Background::kSea
                                         : aar_sim::Background::kTerrain;
       w.renderer.scene.cloud_coverage = 0.4;
+    }
+    if (const char* sun = std::getenv("AAR_SUN"); sun && std::string(sun) == "1")
+      w.renderer.sun.enabled = true;  // sun.yaml's values are SunOptions' defaults
+    if (const char* props = std::getenv("AAR_PROPELLERS"); props && *props) {
+      w.propellers = std::string(props) == "disc" ? aar_sim::PropellerMode::kDisc
+                                                  : aar_sim::PropellerMode::kBlades;
+      w.sensor.motion_blur = true;  // the blades' smear only: nothing is given an exposure end
+      w.sensor.exposure_time = 0.002;
     }
     if (std::getenv("AAR_RECEIVER"))
       w.receiver = aar_description::LoadReceiverDescription(std::getenv("AAR_RECEIVER"));
@@ -124,9 +137,9 @@ int main(int argc, char** argv) {
              "ms,roi_ms,"
              "roi_fraction,receiver_valid_full,receiver_valid_roi\n";
     }
-    std::printf("%6s %8s %9s %6s %6s %6s %6s %9s %9s %8s %8s %8s %10s %10s\n", "t[s]", "range[m]",
-                "receiver", "boom", "other", "bg", "far", "aar[ms]", "sip[ms]", "roi[ms]",
-                "speedup", "roi area", "rcv full", "rcv roi");
+    std::printf("%6s %8s %9s %6s %6s %6s %6s %6s %9s %9s %8s %8s %8s %10s %10s\n", "t[s]",
+                "range[m]", "receiver", "boom", "other", "bg", "far", "prop", "aar[ms]", "sip[ms]",
+                "roi[ms]", "speedup", "roi area", "rcv full", "rcv roi");
     for (int i = 0; i < frames; ++i) {
       const double t =
           path.start_time() + (path.end_time() - path.start_time()) * i / std::max(1, frames - 1);
@@ -163,10 +176,10 @@ int main(int argc, char** argv) {
       const Counts roi_all = Count(ours_all.Process(left, right, g, roi).cloud, f.left.label);
       const double area = static_cast<double>(roi.area()) / (k.width * k.height);
 
-      std::printf("%6.1f %8.1f %9d %6d %6d %6d %6d %9.1f %9.1f %8.1f %8.2f %7.1f%% %10d %10d\n", t,
-                  row.position_m.norm(), counts.receiver, counts.boom, counts.other,
-                  counts.background, counts.far, ours_ms, sip_ms, roi_ms, ours_ms / roi_ms,
-                  100.0 * area, full_all.receiver, roi_all.receiver);
+      std::printf("%6.1f %8.1f %9d %6d %6d %6d %6d %6d %9.1f %9.1f %8.1f %8.2f %7.1f%% %10d %10d\n",
+                  t, row.position_m.norm(), counts.receiver, counts.boom, counts.other,
+                  counts.background, counts.far, counts.propeller, ours_ms, sip_ms, roi_ms,
+                  ours_ms / roi_ms, 100.0 * area, full_all.receiver, roi_all.receiver);
       if (out) {
         out << t << ',' << row.position_m.norm() << ',' << counts.receiver << ',' << counts.boom
             << ',' << counts.other << ',' << ours_ms << ',' << sip_ms << ',' << roi_ms << ','

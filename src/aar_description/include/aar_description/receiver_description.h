@@ -24,6 +24,31 @@ namespace aar_description {
 //   contact:                  # T_tanker_receiver with the nozzle in the receptacle: the
 //     position: [-35.0, 0, -10.19]  # nominal pose of the static (shelled) references [m]
 //     rpy_deg: [0, -2, 0]
+//   canopy:                   # optional: windscreen glass for the simulator's sun (issue 16):
+//     min: [4.15, -0.8, 0.45] #   the surface inside this box [m, body frame] where it faces
+//     max: [4.95, 0.8, 1.0]   #   up (normal z > 0.2)
+//   propellers:               # optional: spinning propellers the simulator draws (issue 16);
+//     - hub: [3.3, 2.6, -0.18]  # not part of the mesh, so not of any reference model
+//       axis: [1, 0, 0]
+//       radius: 1.25
+//       hub_radius: 0.17
+//       chord: 0.18
+//       blades: 4
+//       rpm: 1700
+//       phase_deg: 0
+//
+// A propeller of the description: a disc of blades turning about its axis.
+struct PropellerDescription {
+  Eigen::Vector3d hub = Eigen::Vector3d::Zero();    // [m] body frame: the disc's centre
+  Eigen::Vector3d axis = Eigen::Vector3d::UnitX();  // body frame, unit: the thrust axis
+  double radius = 1.25;                             // [m] blade tip
+  double hub_radius = 0.17;                         // [m] spinner: no blade inside it
+  double chord = 0.18;                              // [m] blade width
+  int blades = 4;
+  double rpm = 1700.0;     // [rev/min] about +axis (clockwise seen from behind a tractor)
+  double phase_deg = 0.0;  // [deg] blade 0's angle at path time 0
+};
+
 struct ReceiverDescription {
   std::string name;
   std::string path;  // the description file (a bare mesh: the mesh)
@@ -38,6 +63,9 @@ struct ReceiverDescription {
   bool has_contact = false;
   Eigen::Isometry3d T_tanker_receiver_contact = Eigen::Isometry3d::Identity();
   Eigen::Vector3d contact_rpy_deg = Eigen::Vector3d::Zero();  // its attitude as written [deg]
+  bool has_canopy = false;
+  Eigen::AlignedBox3d canopy;  // [m] body frame: windscreen glass where the surface faces up
+  std::vector<PropellerDescription> propellers;
 };
 
 // A description file (.yaml or .yml), or a bare mesh file: the mesh in the body frame, in

@@ -29,6 +29,10 @@ aar_geometry::TriangleMesh MakeReceiverMesh(const ReceiverModelOptions& options 
 // the receiver frame [m].
 Eigen::Vector3d ReceptacleInReceiver();
 
+// The C-12's propeller hub (the disc's centre, just behind the spinner's tip) on the left
+// (side +1) or right (side -1) nacelle, in the receiver frame [m].
+Eigen::Vector3d PropellerHubInReceiver(double side);
+
 // Procedural RQ-4B / MQ-4C class high-altitude UAV from published dimensions: span 39.9 m,
 // length 14.5 m; a bulged forward fuselage (the satellite-antenna radome, about 1.6 m tall and
 // wide), a shoulder wing with 3 deg dihedral (root chord 2.2 m, tip 0.75 m), one engine nacelle

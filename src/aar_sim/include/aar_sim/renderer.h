@@ -29,10 +29,17 @@ struct Image {
 };
 
 // Per-pixel class in the label image.
-// kBackground is empty sky; kGround and kCloud come from the background pass (issue 16);
-// kPropeller = 5 is reserved.
-enum class Label : uint8_t { kBackground = 0, kReceiver = 1, kBoom = 2, kGround = 3, kCloud = 4 };
-// Procedural surface appearance.
+// kBackground is empty sky; kGround and kCloud come from the background pass, kPropeller from a
+// propeller's blades where they cover the pixel for at least half the exposure (issue 16).
+enum class Label : uint8_t {
+  kBackground = 0,
+  kReceiver = 1,
+  kBoom = 2,
+  kGround = 3,
+  kCloud = 4,
+  kPropeller = 5
+};
+// Procedural surface appearance. kAircraftPaint's triangles may be marked as glass (AddMesh).
 enum class Surface { kAircraftPaint = 0, kBoomStripes = 1 };
 // What lies below the tanker (docs/realism/scene.md). kNone: today's plain sky.
 enum class Background { kNone = 0, kSea = 1, kTerrain = 2 };
@@ -50,13 +57,50 @@ struct SceneOptions {
   double cloud_min_range_m = 1000.0;      // [m] no cloud nearer than this (horizontal)
 };
 
+// The sun (issue 16, docs/realism/sun.md): direct light from a direction, skylight, cast shadows
+// (a shadow map of everything drawn: the boom's shadow on the receiver, the receiver's on itself)
+// and specular glare on paint, metal and glass. Off (the default): the thesis's fixed, shadowless
+// light from RendererOptions::sun_in_tanker, images bit-identical to those before the sun existed.
+struct SunOptions {
+  bool enabled = false;
+  double azimuth_deg = 30.0;     // [deg] bearing from the tanker's nose, positive to its right wing
+  double elevation_deg = 60.0;   // [deg] above the horizon, in (0, 90]
+  double direct = 0.8;           // radiance of a white surface square to the sun (1 = grey 255)
+  double ambient = 0.25;         // skylight on every surface, lit or not (same scale)
+  bool shadows = true;           // cast shadows
+  int shadow_map_size = 2048;    // [texels] per side; fitted to what is drawn
+  double paint_specular = 0.15;  // peak glare as a fraction of `direct`: painted surfaces,
+  double metal_specular = 0.6;   //   the boom's bare metal,
+  double glass_specular = 2.0;   //   windscreen glass (above 1: clips to white)
+
+  Eigen::Vector3d DirectionInTanker() const;  // unit, towards the sun
+  // Throws std::invalid_argument naming the field that is out of range (sun_elevation <= 0: the
+  // sun below the horizon, say).
+  void Validate() const;
+};
+
+// A spinning propeller at the shutter (issue 16): a disc in the plane x = 0 of its frame (x: the
+// thrust axis), drawn after the opaque meshes and blended over them by the fraction of the
+// exposure its blades cover each pixel. swept_rad = 0: blades frozen at angle_rad; 2 pi or more:
+// the fully blurred disc.
+struct PropellerItem {
+  Eigen::Isometry3d T_tanker_disc = Eigen::Isometry3d::Identity();
+  double radius_m = 1.25;      // [m] blade tip
+  double hub_radius_m = 0.15;  // [m] spinner: no blade inside it
+  double chord_m = 0.18;       // [m] blade width
+  int blades = 4;
+  double angle_rad = 0.0;  // blade 0 at the exposure's start, about x from the disc's y towards z
+  double swept_rad = 0.0;  // [rad] the blades' turn during the exposure
+};
+
 struct RendererOptions {
   CameraIntrinsics intrinsics;
   double near_m = 0.5;                           // [m] clip planes
   double far_m = 2000.0;                         // [m]
   double sky_level = 200.0;                      // [grey level] plain, texture-free sky
-  Eigen::Vector3d sun_in_tanker{0.3, 0.2, 1.0};  // direction towards the sun
+  Eigen::Vector3d sun_in_tanker{0.3, 0.2, 1.0};  // the ideal world's light (sun.enabled false)
   SceneOptions scene;
+  SunOptions sun;
 };
 
 struct RenderedView {
@@ -82,13 +126,18 @@ class Renderer {
   Renderer(const Renderer&) = delete;
   Renderer& operator=(const Renderer&) = delete;
 
-  // Uploads a mesh (in its object frame); returns its handle.
-  int AddMesh(const aar_geometry::TriangleMesh& mesh, Label label, Surface surface);
+  // Uploads a mesh (in its object frame); returns its handle. `glass`: where the surface is
+  // windscreen glass (dark, glossy: the sun's glare), in the object frame: the part of the surface
+  // inside the box whose normal points up (z > 0.2); empty = none.
+  int AddMesh(const aar_geometry::TriangleMesh& mesh, Label label, Surface surface,
+              const Eigen::AlignedBox3d& glass = Eigen::AlignedBox3d());
 
   // Renders the items seen from a camera at T_tanker_optical: the radiance, and the label and
-  // depth when asked for. The mono8 image is the sensor model's (sensor.h).
+  // depth when asked for; then the propellers over them. The mono8 image is the sensor model's
+  // (sensor.h). With the sun's shadows, one shadow map serves every view of the same items.
   RenderedView Render(const Eigen::Isometry3d& T_tanker_optical, const std::vector<DrawItem>& items,
-                      bool want_label, bool want_depth);
+                      bool want_label, bool want_depth,
+                      const std::vector<PropellerItem>& propellers = {});
 
   const RendererOptions& options() const { return options_; }
   std::string gl_renderer() const;  // e.g. "llvmpipe (LLVM 15.0.6, 256 bits)"
@@ -103,6 +152,11 @@ class Renderer {
 
  private:
   void DrawBackground(const Eigen::Isometry3d& T_tanker_optical);  // issue 16 background pass
+  // The sun's shadow map of `items` (reused while they stay where they were); returns the
+  // transform from the tanker frame to the map's clip space.
+  Eigen::Matrix4d UpdateShadowMap(const std::vector<DrawItem>& items);
+  void DrawPropellers(const Eigen::Isometry3d& T_tanker_optical,
+                      const std::vector<PropellerItem>& propellers);
 
   RendererOptions options_;
   std::unique_ptr<Gl> gl_;

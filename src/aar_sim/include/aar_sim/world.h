@@ -15,6 +15,13 @@
 
 namespace aar_sim {
 
+// How the receiver description's propellers are drawn (issue 16, docs/realism/sun.md).
+enum class PropellerMode {
+  kNone = 0,    // not drawn (the thesis's world)
+  kBlades = 1,  // blades at the shutter: smeared over the exposure when motion_blur is on
+  kDisc = 2,    // the fully blurred disc (a long exposure's average)
+};
+
 struct WorldOptions {
   aar_description::ReceiverDescription receiver;  // mesh, its scale and datum
   std::string boom_urdf;                          // boom URDF; its root link is the tanker frame
@@ -24,6 +31,7 @@ struct WorldOptions {
   bool boom_visible = true;
   RawCameraOptions raw;  // enabled: also the raw (distorted, unrectified) images
   SensorOptions sensor;  // radiance to mono8 (defaults: the ideal camera)
+  PropellerMode propellers = PropellerMode::kNone;
 };
 
 // The shipped world: the C-12 (c12.yaml) and boom.urdf from `models_dir` (aar_description's
@@ -64,6 +72,8 @@ class World {
   const WorldOptions& options() const { return options_; }
   const aar_geometry::TriangleMesh& receiver_mesh() const { return receiver_; }
   const aar_geometry::RobotModel& boom_model() const { return boom_; }
+  // The propellers as drawn at `row` (empty unless options.propellers is on).
+  std::vector<PropellerItem> Propellers(const FlightPathRow& row) const;
   Renderer& renderer() { return renderer_; }
   // The cameras' calibrations (null unless options.raw.enabled).
   const RawCamera* raw_left() const { return raw_left_.get(); }

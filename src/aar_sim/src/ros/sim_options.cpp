@@ -134,6 +134,34 @@ SimNodeOptions LoadSimNodeOptions(aar_ros_common::ParamReader& params) {
                  "cloud_altitude", "must be positive and below background_altitude");
     params.Check(sc.cloud_min_range_m >= 0.0, "cloud_min_range", "must not be negative");
   }
+  // The sun and the propellers (docs/realism/sun.md): off by default (the thesis's fixed light).
+  {
+    SunOptions& sun = o.world.renderer.sun;
+    sun.enabled = params.Get("sun", sun.enabled);
+    sun.azimuth_deg = params.Get("sun_azimuth_deg", sun.azimuth_deg);
+    sun.elevation_deg = params.Get("sun_elevation_deg", sun.elevation_deg);
+    sun.direct = params.Get("sun_direct", sun.direct);
+    sun.ambient = params.Get("sun_ambient", sun.ambient);
+    sun.shadows = params.Get("sun_shadows", sun.shadows);
+    sun.shadow_map_size = params.Get("sun_shadow_map_size", sun.shadow_map_size);
+    sun.paint_specular = params.Get("sun_paint_specular", sun.paint_specular);
+    sun.metal_specular = params.Get("sun_metal_specular", sun.metal_specular);
+    sun.glass_specular = params.Get("sun_glass_specular", sun.glass_specular);
+    params.Check(sun.elevation_deg > 0.0 && sun.elevation_deg <= 90.0, "sun_elevation_deg",
+                 "must be in (0, 90] deg: a sun at or below the horizon lights nothing from above");
+    params.Check(std::isfinite(sun.azimuth_deg), "sun_azimuth_deg", "must be a finite angle");
+    params.Check(sun.direct > 0.0 && sun.direct <= 4.0, "sun_direct", "must be in (0, 4]");
+    params.Check(sun.ambient >= 0.0 && sun.ambient <= 2.0, "sun_ambient", "must be in [0, 2]");
+    params.Check(sun.shadow_map_size >= 64 && sun.shadow_map_size <= 8192, "sun_shadow_map_size",
+                 "must be from 64 to 8192 texels");
+    params.Check(sun.paint_specular >= 0.0, "sun_paint_specular", "must not be negative");
+    params.Check(sun.metal_specular >= 0.0, "sun_metal_specular", "must not be negative");
+    params.Check(sun.glass_specular >= 0.0, "sun_glass_specular", "must not be negative");
+    o.world.propellers = params.GetChoice<PropellerMode>("propellers", "none",
+                                                         {{"none", PropellerMode::kNone},
+                                                          {"blades", PropellerMode::kBlades},
+                                                          {"disc", PropellerMode::kDisc}});
+  }
   // Turbulence (docs/realism/turbulence.md): Dryden gusts moving the receiver and the boom.
   o.turbulence.intensity =
       params.GetChoice<TurbulenceIntensity>("turbulence", "none",
