@@ -401,6 +401,14 @@ struct Renderer::Gl {
   bool shadow_valid = false;
   Eigen::Matrix4d shadow_clip_from_tanker = Eigen::Matrix4d::Identity();
   GLuint propeller_program = 0, empty_vao = 0;
+  // The background pass's output per camera pose: it is fixed in the tanker frame, as the
+  // cameras are, so each frame copies it instead of drawing it again (a rig's two cameras).
+  struct CachedBackground {
+    Eigen::Matrix4d T_tanker_optical;
+    GLuint framebuffer = 0;
+    GLuint color[3] = {0, 0, 0};
+  };
+  std::vector<CachedBackground> backgrounds;
   GLuint color[3] = {0, 0, 0};  // radiance R32F, label R8UI, depth R32F
   GLuint depth_buffer = 0;
   std::vector<Mesh> meshes;
@@ -577,6 +585,10 @@ Renderer::~Renderer() {
       glDeleteTextures(1, &gl_->shadow_map);
     }
     if (gl_->background_program) glDeleteProgram(gl_->background_program);
+    for (const auto& b : gl_->backgrounds) {
+      glDeleteRenderbuffers(3, b.color);
+      glDeleteFramebuffers(1, &b.framebuffer);
+    }
     if (gl_->background_vao) glDeleteVertexArrays(1, &gl_->background_vao);
     eglMakeCurrent(gl_->display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
     eglDestroyContext(gl_->display, gl_->context);
@@ -690,6 +702,46 @@ int Renderer::AddMesh(const aar_geometry::TriangleMesh& mesh, Label label, Surfa
   return static_cast<int>(gl_->meshes.size()) - 1;
 }
 
+void Renderer::CopyBackground(const Eigen::Isometry3d& T_tanker_optical) {
+  const CameraIntrinsics& k = options_.intrinsics;
+  auto& cache = gl_->backgrounds;
+  auto it = std::find_if(cache.begin(), cache.end(), [&](const Gl::CachedBackground& b) {
+    return b.T_tanker_optical == T_tanker_optical.matrix();
+  });
+  if (it == cache.end()) {
+    if (cache.size() >= 4) {  // a camera that moves: keep the newest few
+      glDeleteRenderbuffers(3, cache.front().color);
+      glDeleteFramebuffers(1, &cache.front().framebuffer);
+      cache.erase(cache.begin());
+    }
+    Gl::CachedBackground b;
+    b.T_tanker_optical = T_tanker_optical.matrix();
+    glGenFramebuffers(1, &b.framebuffer);
+    glBindFramebuffer(GL_FRAMEBUFFER, b.framebuffer);
+    glGenRenderbuffers(3, b.color);
+    const GLenum formats[3] = {GL_R32F, GL_R8UI, GL_R32F};
+    for (int i = 0; i < 3; ++i) {
+      glBindRenderbuffer(GL_RENDERBUFFER, b.color[i]);
+      glRenderbufferStorage(GL_RENDERBUFFER, formats[i], k.width, k.height);
+      glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0 + i, GL_RENDERBUFFER,
+                                b.color[i]);
+    }
+    const GLenum buffers[3] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2};
+    glDrawBuffers(3, buffers);
+    if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+      throw RenderError("the background cache's framebuffer is incomplete");
+    DrawBackground(T_tanker_optical);  // covers every pixel (the sky above the horizon too)
+    glBindFramebuffer(GL_FRAMEBUFFER, gl_->framebuffer);
+    cache.push_back(b);
+    it = cache.end() - 1;
+  }
+  for (int i = 0; i < 3; ++i) {
+    glCopyImageSubData(it->color[i], GL_RENDERBUFFER, 0, 0, 0, 0, gl_->color[i], GL_RENDERBUFFER, 0,
+                       0, 0, 0, k.width, k.height, 1);
+  }
+  CheckGl("background copy");
+}
+
 void Renderer::DrawBackground(const Eigen::Isometry3d& T_tanker_optical) {
   const CameraIntrinsics& k = options_.intrinsics;
   const SceneOptions& sc = options_.scene;
@@ -741,7 +793,7 @@ RenderedView Renderer::Render(const Eigen::Isometry3d& T_tanker_optical,
   glClearBufferuiv(GL_COLOR, 1, background);
   glClearBufferfv(GL_COLOR, 2, no_depth);
   glClear(GL_DEPTH_BUFFER_BIT);
-  if (gl_->background_program) DrawBackground(T_tanker_optical);
+  if (gl_->background_program) CopyBackground(T_tanker_optical);
 
   const GLuint program = sun ? gl_->sun_program : gl_->program;
   glUseProgram(program);

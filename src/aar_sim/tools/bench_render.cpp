@@ -8,6 +8,7 @@
 // background (terrain, clouds 0.4: config/realism/background.yaml) alone and with the sensor
 // effects; the sun with shadows and the propellers (sun.yaml, propellers.yaml) with the sensor
 // effects; and everything at once (config/realism/realistic.yaml's renderer and sensor settings).
+// AAR_BENCH_SHADOW_MAP: the sun's shadow-map size in those two columns (0: no shadows).
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -52,6 +53,9 @@ int main(int argc, char** argv) {
       o.sensor = realistic.sensor;
       scene_sensed = std::make_unique<aar_sim::World>(o);
       o.renderer.sun.enabled = true;
+      if (const char* map = std::getenv("AAR_BENCH_SHADOW_MAP"))  // 0: no shadows
+        std::atoi(map) > 0 ? void(o.renderer.sun.shadow_map_size = std::atoi(map))
+                           : void(o.renderer.sun.shadows = false);
       o.propellers = aar_sim::PropellerMode::kBlades;
       all_world = std::make_unique<aar_sim::World>(o);
       o.renderer.scene = aar_sim::SceneOptions();

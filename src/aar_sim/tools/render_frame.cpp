@@ -1,7 +1,7 @@
 // render_frame: renders one stereo pair of a flight path to PGM files, for looking at the world.
 //   render_frame FLIGHT_PATH TIME_S OUT_PREFIX [--no-boom] [--background sea|terrain]
 //                [--clouds COVERAGE] [--sun AZIMUTH_DEG,ELEVATION_DEG] [--no-shadows]
-//                [--propellers blades|disc] [--exposure SECONDS]
+//                [--shadow-map TEXELS] [--propellers blades|disc] [--exposure SECONDS]
 // --exposure turns motion blur on over that exposure (the propellers' blades smear over it too).
 #include <fstream>
 #include <iostream>
@@ -25,7 +25,8 @@ int main(int argc, char** argv) {
   if (argc < 4) {
     std::cerr << "usage: render_frame FLIGHT_PATH TIME_S OUT_PREFIX [--no-boom] "
                  "[--background sea|terrain] [--clouds COVERAGE] [--sun AZ_DEG,EL_DEG] "
-                 "[--no-shadows] [--propellers blades|disc] [--exposure SECONDS]\n";
+                 "[--no-shadows] [--shadow-map TEXELS] [--propellers blades|disc] "
+                 "[--exposure SECONDS]\n";
     return 2;
   }
   try {
@@ -52,6 +53,8 @@ int main(int argc, char** argv) {
         options.renderer.sun.elevation_deg = std::stod(v.substr(comma + 1));
       } else if (a == "--no-shadows") {
         options.renderer.sun.shadows = false;
+      } else if (a == "--shadow-map" && i + 1 < argc) {
+        options.renderer.sun.shadow_map_size = std::stoi(argv[++i]);
       } else if (a == "--propellers" && i + 1 < argc) {
         const std::string p = argv[++i];
         if (p != "blades" && p != "disc") throw std::runtime_error("--propellers: blades or disc");

@@ -68,7 +68,7 @@ struct SunOptions {
   double direct = 0.8;           // radiance of a white surface square to the sun (1 = grey 255)
   double ambient = 0.25;         // skylight on every surface, lit or not (same scale)
   bool shadows = true;           // cast shadows
-  int shadow_map_size = 2048;    // [texels] per side; fitted to what is drawn
+  int shadow_map_size = 1024;    // [texels] per side, fitted to what is drawn: ~a pixel at contact
   double paint_specular = 0.15;  // peak glare as a fraction of `direct`: painted surfaces,
   double metal_specular = 0.6;   //   the boom's bare metal,
   double glass_specular = 2.0;   //   windscreen glass (above 1: clips to white)
@@ -152,6 +152,9 @@ class Renderer {
 
  private:
   void DrawBackground(const Eigen::Isometry3d& T_tanker_optical);  // issue 16 background pass
+  // The background pass's radiance, label and depth for this camera pose into the framebuffer:
+  // drawn once per pose, copied after (the background is fixed in the tanker frame).
+  void CopyBackground(const Eigen::Isometry3d& T_tanker_optical);
   // The sun's shadow map of `items` (reused while they stay where they were); returns the
   // transform from the tanker frame to the map's clip space.
   Eigen::Matrix4d UpdateShadowMap(const std::vector<DrawItem>& items);
