@@ -219,6 +219,23 @@ TEST(Config, RealisticPresetHoldsEveryOtherPresetsValues) {
   EXPECT_GE(keys, 30);  // 6 background + 9 sensor + 4 turbulence + 10 sun + 1 propeller keys
 }
 
+// Each case's key, set alone to its value on `node` (over the parameters already there), makes
+// the simulator's loader refuse with a message that contains the case's text.
+void ExpectSimRefuses(
+    ros::NodeHandle& node,
+    const std::vector<std::tuple<std::string, XmlRpc::XmlRpcValue, std::string>>& cases) {
+  for (const auto& [key, value, text] : cases) {
+    node.setParam(key, value);
+    try {
+      aar_sim::LoadSimNodeOptions(node);
+      ADD_FAILURE() << key << " was accepted";
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find(text), std::string::npos) << e.what();
+    }
+    node.deleteParam(key);
+  }
+}
+
 // config/sim.yaml's raw cameras: off by default (rectified pinhole images), and its lens values
 // are the ones the code documents (aar_sim::DefaultRawCameraOptions). A lens list of the wrong
 // length or type stops the simulator, naming the key.
@@ -245,22 +262,11 @@ TEST(Config, SimRawCamerasOffByDefaultLensesAsDocumented) {
     for (size_t i = 0; i < items.size(); ++i) value[static_cast<int>(i)] = items[i];
     return value;
   };
-  for (const auto& [key, value, text] :
-       std::vector<std::tuple<std::string, XmlRpc::XmlRpcValue, std::string>>{
-           {"left_distortion", list({-0.2, 0.1, 0.0}),
-            "/sim_raw_bad/left_distortion must be a list of 5 numbers"},
-           {"right_rotation_deg", list({0.1, 0.2, std::string("x")}),
-            "/sim_raw_bad/right_rotation_deg must be a list of 3 numbers"},
-           {"left_rotation_deg", list({20.0, 0.0, 0.0}), "must stay within 10 deg"}}) {
-    raw.setParam(key, value);
-    try {
-      aar_sim::LoadSimNodeOptions(raw);
-      ADD_FAILURE() << key << " was accepted";
-    } catch (const std::invalid_argument& e) {
-      EXPECT_NE(std::string(e.what()).find(text), std::string::npos) << e.what();
-    }
-    raw.deleteParam(key);
-  }
+  ExpectSimRefuses(raw, {{"left_distortion", list({-0.2, 0.1, 0.0}),
+                          "/sim_raw_bad/left_distortion must be a list of 5 numbers"},
+                         {"right_rotation_deg", list({0.1, 0.2, std::string("x")}),
+                          "/sim_raw_bad/right_rotation_deg must be a list of 3 numbers"},
+                         {"left_rotation_deg", list({20.0, 0.0, 0.0}), "must stay within 10 deg"}});
   // Integers in a list are numbers too (YAML [0, 0, 0]).
   raw.setParam("left_rotation_deg", list({0, 1, 0}));
   try {
@@ -286,23 +292,14 @@ TEST(Config, SceneBackgroundOffByDefaultPresetLoadsBadValuesRefused) {
   std::string path;
   ros::NodeHandle("/sim").getParam("flight_path", path);
   bad.setParam("flight_path", path);
-  for (const auto& [key, value, text] :
-       std::vector<std::tuple<std::string, XmlRpc::XmlRpcValue, std::string>>{
-           {"background", XmlRpc::XmlRpcValue("desert"), "/sim_scene_bad/background must be"},
-           {"background_altitude", XmlRpc::XmlRpcValue(-1.0), "/sim_scene_bad/background_altitude"},
-           {"visibility", XmlRpc::XmlRpcValue(0.0), "/sim_scene_bad/visibility"},
-           {"cloud_coverage", XmlRpc::XmlRpcValue(1.5), "/sim_scene_bad/cloud_coverage"},
-           {"cloud_altitude", XmlRpc::XmlRpcValue(5000.0), "/sim_scene_bad/cloud_altitude"},
-           {"cloud_min_range", XmlRpc::XmlRpcValue(-3.0), "/sim_scene_bad/cloud_min_range"}}) {
-    bad.setParam(key, value);
-    try {
-      aar_sim::LoadSimNodeOptions(bad);
-      ADD_FAILURE() << key << " was accepted";
-    } catch (const std::invalid_argument& e) {
-      EXPECT_NE(std::string(e.what()).find(text), std::string::npos) << e.what();
-    }
-    bad.deleteParam(key);
-  }
+  ExpectSimRefuses(
+      bad,
+      {{"background", XmlRpc::XmlRpcValue("desert"), "/sim_scene_bad/background must be"},
+       {"background_altitude", XmlRpc::XmlRpcValue(-1.0), "/sim_scene_bad/background_altitude"},
+       {"visibility", XmlRpc::XmlRpcValue(0.0), "/sim_scene_bad/visibility"},
+       {"cloud_coverage", XmlRpc::XmlRpcValue(1.5), "/sim_scene_bad/cloud_coverage"},
+       {"cloud_altitude", XmlRpc::XmlRpcValue(5000.0), "/sim_scene_bad/cloud_altitude"},
+       {"cloud_min_range", XmlRpc::XmlRpcValue(-3.0), "/sim_scene_bad/cloud_min_range"}});
 }
 
 // Issue 16 sun and propeller keys: off by default (the ideal world's light, no propellers), the
@@ -327,27 +324,17 @@ TEST(Config, SunAndPropellersOffByDefaultPresetsLoadBadValuesRefused) {
   ros::NodeHandle("/sim").getParam("flight_path", path);
   bad.setParam("flight_path", path);
   bad.setParam("sun", true);
-  for (const auto& [key, value, text] :
-       std::vector<std::tuple<std::string, XmlRpc::XmlRpcValue, std::string>>{
-           {"sun_elevation_deg", XmlRpc::XmlRpcValue(-5.0),
-            "/sim_sun_bad/sun_elevation_deg must be in (0, 90] deg: a sun at or below the horizon"},
-           {"sun_elevation_deg", XmlRpc::XmlRpcValue(0.0), "/sim_sun_bad/sun_elevation_deg"},
-           {"sun_direct", XmlRpc::XmlRpcValue(0.0), "/sim_sun_bad/sun_direct"},
-           {"sun_ambient", XmlRpc::XmlRpcValue(-0.1), "/sim_sun_bad/sun_ambient"},
-           {"sun_shadow_map_size", XmlRpc::XmlRpcValue(16), "/sim_sun_bad/sun_shadow_map_size"},
-           {"sun_glass_specular", XmlRpc::XmlRpcValue(-1.0), "/sim_sun_bad/sun_glass_specular"},
-           {"sun_shadows", XmlRpc::XmlRpcValue(3.0), "/sim_sun_bad/sun_shadows"},
-           {"propellers", XmlRpc::XmlRpcValue("spinning"),
-            "/sim_sun_bad/propellers must be one of"}}) {
-    bad.setParam(key, value);
-    try {
-      aar_sim::LoadSimNodeOptions(bad);
-      ADD_FAILURE() << key << " was accepted";
-    } catch (const std::invalid_argument& e) {
-      EXPECT_NE(std::string(e.what()).find(text), std::string::npos) << e.what();
-    }
-    bad.deleteParam(key);
-  }
+  ExpectSimRefuses(
+      bad,
+      {{"sun_elevation_deg", XmlRpc::XmlRpcValue(-5.0),
+        "/sim_sun_bad/sun_elevation_deg must be in (0, 90] deg: a sun at or below the horizon"},
+       {"sun_elevation_deg", XmlRpc::XmlRpcValue(0.0), "/sim_sun_bad/sun_elevation_deg"},
+       {"sun_direct", XmlRpc::XmlRpcValue(0.0), "/sim_sun_bad/sun_direct"},
+       {"sun_ambient", XmlRpc::XmlRpcValue(-0.1), "/sim_sun_bad/sun_ambient"},
+       {"sun_shadow_map_size", XmlRpc::XmlRpcValue(16), "/sim_sun_bad/sun_shadow_map_size"},
+       {"sun_glass_specular", XmlRpc::XmlRpcValue(-1.0), "/sim_sun_bad/sun_glass_specular"},
+       {"sun_shadows", XmlRpc::XmlRpcValue(3.0), "/sim_sun_bad/sun_shadows"},
+       {"propellers", XmlRpc::XmlRpcValue("spinning"), "/sim_sun_bad/propellers must be one of"}});
 }
 
 }  // namespace

@@ -76,6 +76,25 @@ SimNode::SimNode(ros::NodeHandle nh, const SimNodeOptions& options)
                             std::to_string(100.0 * world_->raw_left()->outside_fraction()) +
                             " % of raw pixels beyond the rendered view)"
                       : ""));
+  const SunOptions& sun = options_.world.renderer.sun;
+  if (sun.enabled) {
+    ROS_INFO_STREAM("sim: the sun at azimuth "
+                    << sun.azimuth_deg << " deg, elevation " << sun.elevation_deg << " deg"
+                    << (sun.shadows ? ", cast shadows" : ", no shadows"));
+  }
+  if (options_.world.propellers != PropellerMode::kNone) {
+    const size_t n = options_.world.receiver.propellers.size();
+    if (n == 0) {  // a jet, or a description that does not list them: say so rather than nothing
+      ROS_WARN_STREAM("sim: propellers are on, but the receiver description "
+                      << options_.world.receiver.path << " lists none: none are drawn");
+    } else {
+      ROS_INFO_STREAM(
+          "sim: " << n << " propellers drawn "
+                  << (options_.world.propellers == PropellerMode::kDisc ? "as blurred discs"
+                      : options_.world.sensor.motion_blur ? "as blades smeared over the exposure"
+                                                          : "as blades frozen at the shutter"));
+    }
+  }
   if (turbulence_.enabled()) {
     const TurbulenceOptions& t = options_.turbulence;
     ROS_INFO_STREAM("sim: " << TurbulenceIntensityName(t.intensity) << " turbulence (Dryden, sigma "
