@@ -191,4 +191,45 @@ Eigen::Isometry3d CentroidSeed(const std::vector<Eigen::Vector3d>& sensed_in_tan
   return T;
 }
 
+std::vector<Eigen::Vector3d> DensestBall(const std::vector<Eigen::Vector3d>& points, double radius,
+                                         int candidates) {
+  if (points.empty()) throw std::invalid_argument("densest ball of an empty cloud");
+  if (!(radius > 0.0)) throw std::invalid_argument("densest ball: radius must be positive");
+  if (candidates < 1) throw std::invalid_argument("densest ball: candidates must be >= 1");
+  const double r2 = radius * radius;
+  auto count = [&](const Eigen::Vector3d& c) {
+    size_t n = 0;
+    for (const auto& p : points) n += (p - c).squaredNorm() <= r2;
+    return n;
+  };
+  // Brute force: 256 candidates x 15,000 points is a few milliseconds, once per acquisition.
+  const size_t step = std::max<size_t>(1, points.size() / static_cast<size_t>(candidates));
+  Eigen::Vector3d centre = points.front();
+  size_t best = 0;
+  for (size_t i = 0; i < points.size(); i += step) {
+    const size_t n = count(points[i]);
+    if (n > best) best = n, centre = points[i];
+  }
+  std::vector<Eigen::Vector3d> inside;
+  for (int iteration = 0; iteration < 5; ++iteration) {
+    inside.clear();
+    for (const auto& p : points)
+      if ((p - centre).squaredNorm() <= r2) inside.push_back(p);
+    const Eigen::Vector3d moved = Centroid(inside);
+    if ((moved - centre).norm() < 1e-3 * radius) break;
+    centre = moved;
+  }
+  inside.clear();
+  for (const auto& p : points)
+    if ((p - centre).squaredNorm() <= r2) inside.push_back(p);
+  return inside.empty() ? std::vector<Eigen::Vector3d>{centre} : inside;
+}
+
+double HalfDiagonal(const std::vector<Eigen::Vector3d>& points) {
+  if (points.size() < 2) return 0.0;
+  Eigen::AlignedBox3d box;
+  for (const auto& p : points) box.extend(p);
+  return 0.5 * box.diagonal().norm();
+}
+
 }  // namespace aar_geometry

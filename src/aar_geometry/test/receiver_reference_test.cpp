@@ -1,5 +1,8 @@
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <cstdio>
+
 #include "aar_geometry/primitives.h"
 #include "aar_geometry/receiver_reference.h"
 
@@ -14,6 +17,37 @@ TEST(ReceiverReference, CentroidSeed) {
   EXPECT_TRUE(seed.linear().isIdentity());
   EXPECT_TRUE(seed.translation().isApprox(Eigen::Vector3d(-35, 1, -10)));
   EXPECT_THROW(CentroidSeed({}, reference), std::invalid_argument);
+}
+
+// Far clutter (a few hundred points scattered from 100 to 700 m, as block matching leaves of a
+// textured background) drags the centroid tens of metres; the densest ball of the receiver's
+// size keeps to the receiver.
+TEST(ReceiverReference, DensestBallIgnoresFarClutter) {
+  std::vector<Eigen::Vector3d> receiver, cloud;
+  for (int i = 0; i < 2000; ++i)  // a 16 x 13 x 3 m box of points around (-35, 0, -10)
+    receiver.push_back(Eigen::Vector3d(-35 + 6.5 * std::sin(i * 0.37), 8.0 * std::cos(i * 0.73),
+                                       -10 + 1.5 * std::sin(i * 1.31)));
+  cloud = receiver;
+  for (int i = 0; i < 400; ++i) {  // clutter along the view, aft and down
+    const double range = 100.0 + 600.0 * ((i * 37) % 400) / 400.0;
+    cloud.push_back(
+        Eigen::Vector3d(-20 - 0.9 * range, 40.0 * std::sin(i * 0.51), -3 - 0.42 * range));
+  }
+  const std::vector<Eigen::Vector3d> reference = receiver;  // centred like the sensed receiver
+  const double radius = HalfDiagonal(reference);
+  EXPECT_NEAR(radius, 0.5 * std::sqrt(13.0 * 13.0 + 16.0 * 16.0 + 3.0 * 3.0), 0.2);
+  const Eigen::Vector3d truth = CentroidSeed(receiver, reference).translation();
+  const double centroid_off = (CentroidSeed(cloud, reference).translation() - truth).norm();
+  const std::vector<Eigen::Vector3d> ball = DensestBall(cloud, radius);
+  const double ball_off = (CentroidSeed(ball, reference).translation() - truth).norm();
+  std::printf("[ seed ] centroid %.1f m off, densest ball %.3f m off (%zu of %zu points)\n",
+              centroid_off, ball_off, ball.size(), cloud.size());
+  EXPECT_GT(centroid_off, 30.0);
+  EXPECT_LT(ball_off, 0.5);
+  EXPECT_EQ(ball.size(), receiver.size());      // nothing of the clutter within 10 m of it
+  EXPECT_EQ(DensestBall(cloud, radius), ball);  // deterministic
+  EXPECT_THROW(DensestBall({}, 1.0), std::invalid_argument);
+  EXPECT_THROW(DensestBall(cloud, 0.0), std::invalid_argument);
 }
 
 TEST(ReceiverReference, ShellKeepsWhatTheEyesSee) {

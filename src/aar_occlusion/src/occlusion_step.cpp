@@ -1,6 +1,7 @@
 #include "aar_occlusion/occlusion_step.h"
 
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
 namespace aar_occlusion {
@@ -13,6 +14,23 @@ std::string MissingLink(const std::vector<std::string>& links,
     if (!poses.count(link)) return link;
   }
   return "";
+}
+
+// Whether `p` is seen through one of the discs near it: the ray from `eye` to `p` crosses the
+// disc's plane within its annulus, and `p` lies within `depth_margin` of that crossing.
+bool OnPropeller(const Eigen::Vector3d& eye, const Eigen::Vector3d& p,
+                 const std::vector<PropellerDisc>& discs, double margin, double depth_margin) {
+  for (const PropellerDisc& d : discs) {
+    const Eigen::Vector3d e = eye - d.hub, v = p - eye;
+    const double along = v.dot(d.axis);
+    if (std::abs(along) < 1e-9) continue;  // the ray runs in the disc's plane
+    const double t = -e.dot(d.axis) / along;
+    const Eigen::Vector3d q = e + t * v;  // the crossing, relative to the hub
+    const double radial = (q - q.dot(d.axis) * d.axis).norm();
+    if (radial < d.hub_radius + margin || radial > d.radius + margin) continue;
+    if (std::abs(1.0 - t) * v.norm() <= depth_margin) return true;
+  }
+  return false;
 }
 
 }  // namespace
@@ -31,6 +49,7 @@ OcclusionStep::OcclusionStep(const OcclusionStepOptions& options,
       boom_error_ = e.what();
     }
   }
+  if (receiver) receiver_radius_ = aar_geometry::HalfDiagonal(receiver->vertices);
   if (options_.build_reference) {
     if (receiver == nullptr)
       throw std::invalid_argument("OcclusionStep: a dynamic reference needs the receiver mesh");
@@ -97,11 +116,30 @@ OcclusionResult OcclusionStep::Process(const OcclusionInput& in) {
   if (r.boom_placed) is_boom = boom_->Cull(points, options_.cull);
   for (size_t i = 0; i < points.size(); ++i) (is_boom[i] ? r.removed : r.kept).push_back(i);
 
+  // The propellers at the estimate's pose (not the seed's: it knows no attitude).
+  if (options_.cull_propellers && in.T_tanker_receiver_predicted && !options_.propellers.empty()) {
+    std::vector<PropellerDisc> discs = options_.propellers;
+    for (PropellerDisc& d : discs) {
+      d.hub = *in.T_tanker_receiver_predicted * d.hub;
+      d.axis = in.T_tanker_receiver_predicted->linear() * d.axis.normalized();
+    }
+    std::vector<size_t> kept;
+    for (const size_t i : r.kept) {
+      const bool on = OnPropeller(in.left_eye, points[i], discs, options_.propeller_margin,
+                                  options_.propeller_depth_margin);
+      (on ? r.removed : kept).push_back(i);
+      r.propeller_points += on;
+    }
+    r.kept = std::move(kept);
+  }
+
   if (reference_) {
     std::optional<Eigen::Isometry3d> T_tanker_receiver = in.T_tanker_receiver_predicted;
     if (!T_tanker_receiver && !r.kept.empty()) {
       std::vector<Eigen::Vector3d> kept_points;
       for (const size_t i : r.kept) kept_points.push_back(points[i]);
+      if (options_.seed_densest_ball && receiver_radius_ > 0.0)
+        kept_points = aar_geometry::DensestBall(kept_points, receiver_radius_);
       T_tanker_receiver = aar_geometry::CentroidSeed(kept_points, {Eigen::Vector3d::Zero()});
     }
     try {

@@ -144,5 +144,40 @@ TEST(OcclusionStep, NothingToDoWhenCullingAndTheReferenceAreOff) {
   EXPECT_THROW(OcclusionStep(OcclusionStepOptions{}, s.boom, "", nullptr), std::invalid_argument);
 }
 
+// cull_propellers: with an estimate, the points seen through a disc near it leave the cloud;
+// those by the spinner, far behind the disc, or off it stay; without an estimate, or with the
+// option off, nothing leaves.
+TEST(OcclusionStep, PropellerDiscsAreCulledAtTheEstimate) {
+  OcclusionStepOptions options;
+  options.cull = CullMethod::kNone;
+  options.build_reference = false;
+  options.cull_propellers = true;
+  options.propellers = {{Eigen::Vector3d(3.3, 2.6, -0.18), Eigen::Vector3d::UnitX(), 1.25, 0.17}};
+  OcclusionStep step(options, std::nullopt, "", nullptr);
+  OcclusionInput in;
+  in.left_eye = {-20.0, 0.75, -3.0};
+  const Eigen::Isometry3d T_tanker_receiver =
+      aar_geometry::MakeTransform({-35.0, 0.0, -10.19}, {0.0, -0.035, 0.0});
+  in.T_tanker_receiver_predicted = T_tanker_receiver;
+  auto on_ray = [&](const Eigen::Vector3d& disc_point, double beyond) {  // along the eye's ray
+    const Eigen::Vector3d p = T_tanker_receiver * disc_point;
+    return Eigen::Vector3d(p + beyond * (p - in.left_eye).normalized());
+  };
+  in.points = {on_ray({3.3, 2.6 + 0.8, -0.18}, 0.2),   // blade at r = 0.8, 20 cm deep: culled
+               on_ray({3.3, 2.6, -0.18 + 1.2}, -0.3),  // near the tip, 30 cm short: culled
+               on_ray({3.3, 2.6 + 0.1, -0.18}, 0.0),   // by the spinner: kept
+               on_ray({3.3, 2.6 + 0.8, -0.18}, 2.0),   // 2 m behind the disc (the wing): kept
+               T_tanker_receiver * Eigen::Vector3d(0.0, 0.0, 1.0)};  // the fuselage: kept
+  const OcclusionResult r = step.Process(in);
+  EXPECT_EQ(r.removed, (std::vector<size_t>{0, 1}));
+  EXPECT_EQ(r.kept, (std::vector<size_t>{2, 3, 4}));
+  EXPECT_EQ(r.propeller_points, 2u);
+  in.T_tanker_receiver_predicted.reset();  // the seed knows no attitude: nothing is culled
+  EXPECT_EQ(step.Process(in).kept.size(), 5u);
+  in.T_tanker_receiver_predicted = T_tanker_receiver;
+  options.cull_propellers = false;
+  EXPECT_EQ(OcclusionStep(options, std::nullopt, "", nullptr).Process(in).kept.size(), 5u);
+}
+
 }  // namespace
 }  // namespace aar_occlusion

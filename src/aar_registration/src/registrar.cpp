@@ -128,7 +128,12 @@ RegistrarResult Registrar::Register(const std::vector<Eigen::Vector3d>& all_sens
       seed = prediction.T_tanker_receiver;
       out.seed = SeedMode::kPrediction;
     } else {  // the centroids only when used: they cost a pass over both clouds
-      seed = aar_geometry::CentroidSeed(*sensed, reference_points_);
+      seed = options_.seed_points == SeedPoints::kDensestBall
+                 ? aar_geometry::CentroidSeed(
+                       aar_geometry::DensestBall(*sensed,
+                                                 aar_geometry::HalfDiagonal(reference_points_)),
+                       reference_points_)
+                 : aar_geometry::CentroidSeed(*sensed, reference_points_);
       out.seed = SeedMode::kCentroid;
     }
     Align(*sensed, seed, out);

@@ -85,7 +85,7 @@ TEST(Config, EveryExperimentLoadsIntoEveryNode) {
       ADD_FAILURE() << "experiment " << name << ": " << e.what();
     }
   }
-  EXPECT_EQ(experiments, 7);  // the thesis's four, tracking and the two ablations
+  EXPECT_EQ(experiments, 8);  // the thesis's four, tracking, tracking_robust, the two ablations
 }
 
 // Every camera mount in config/mounts/ loads into the simulator over config/sim.yaml and moves

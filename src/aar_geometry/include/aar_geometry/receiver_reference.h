@@ -69,4 +69,18 @@ ReferenceCloud Shell(const ReferenceCloud& dense, const VisibilityTester& receiv
 Eigen::Isometry3d CentroidSeed(const std::vector<Eigen::Vector3d>& sensed_in_tanker,
                                const std::vector<Eigen::Vector3d>& reference_in_receiver);
 
+// The points in the densest ball of radius `radius` [m] (not in the thesis; the points a robust
+// centroid seed takes): its centre is the candidate (up to `candidates` points, evenly spaced
+// through the cloud) with the most points within `radius`, then moved by mean shift (at most 5
+// steps) to the centroid of the points it holds. Clutter scattered over hundreds of metres (far
+// background texture that block matching mismatched into range) falls outside a ball of the
+// receiver's size. Deterministic. Throws std::invalid_argument for an empty cloud, radius <= 0
+// or candidates < 1.
+std::vector<Eigen::Vector3d> DensestBall(const std::vector<Eigen::Vector3d>& points, double radius,
+                                         int candidates = 256);
+
+// Half the diagonal of the points' bounding box [m]: the radius of a ball that holds a model
+// centred on it (0 for fewer than two points).
+double HalfDiagonal(const std::vector<Eigen::Vector3d>& points);
+
 }  // namespace aar_geometry

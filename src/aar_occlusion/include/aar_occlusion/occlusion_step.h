@@ -15,6 +15,14 @@
 
 namespace aar_occlusion {
 
+// A propeller disc of the receiver (its description's `propellers`), receiver frame.
+struct PropellerDisc {
+  Eigen::Vector3d hub = Eigen::Vector3d::Zero();    // [m] the disc's centre
+  Eigen::Vector3d axis = Eigen::Vector3d::UnitX();  // unit
+  double radius = 1.25;                             // [m] blade tip
+  double hub_radius = 0.17;                         // [m] spinner
+};
+
 struct OcclusionStepOptions {
   CullMethod cull = CullMethod::kVolumes;  // how boom points leave the sensed cloud
   BoomPartsOptions parts;                  // the cull and silhouette margins
@@ -31,6 +39,19 @@ struct OcclusionStepOptions {
   // [m] points farther than this from the left eye are no measurement (the stereo stage cuts at
   // 750 m, as the thesis): dropped from the cloud before anything else sees them.
   double max_point_range = 1000.0;
+  // The predicted pose before any estimate: the centroid of the kept points (thesis), or of those
+  // in the densest ball of the receiver's size (aar_geometry::DensestBall; ours), which far
+  // clutter does not drag. Registration's seed_points, the same choice.
+  bool seed_densest_ball = false;
+  // Spinning propellers (not in the thesis): with an estimate to place them, the points seen
+  // through a disc (a ray from the left eye crossing it between hub_radius + margin and
+  // radius + margin) within propeller_depth_margin of it along the ray leave the cloud as the
+  // boom's do. The reference keeps what lies behind the discs (see-through: a blade covers a
+  // disc point a tenth to a quarter of the time).
+  bool cull_propellers = false;
+  std::vector<PropellerDisc> propellers;
+  double propeller_margin = 0.1;        // [m] radial, at the tip and the spinner
+  double propeller_depth_margin = 0.5;  // [m] along the ray, either side of the disc
 };
 
 // What the ROS layer gathered for one sensed cloud, all in the tanker frame.
@@ -51,6 +72,7 @@ struct OcclusionInput {
 struct OcclusionResult {
   std::vector<size_t> kept, removed;  // indices into OcclusionInput::points
   size_t out_of_range = 0;            // points in neither: beyond max_point_range (or not finite)
+  size_t propeller_points = 0;        // of `removed`: on the propeller discs (cull_propellers)
   bool boom_placed = false;           // the volumes are this frame's (culled as configured)
   bool volumes_rebuilt = false;       // the boom or an eye moved: the volumes changed
   std::string cull_error;             // why the frame passes through unculled; empty if it did not
@@ -95,6 +117,7 @@ class OcclusionStep {
   std::unique_ptr<BoomOcclusion> boom_;
   std::string boom_error_;  // why boom_ is null, naming the link
   std::unique_ptr<DynamicReference> reference_;
+  double receiver_radius_ = 0.0;  // [m] half the receiver's box diagonal (seed_densest_ball)
 };
 
 }  // namespace aar_occlusion

@@ -45,6 +45,10 @@ OcclusionNode::OcclusionNode(ros::NodeHandle nh, ros::NodeHandle private_nh,
   if (step_->builds_reference())
     reference_pub_ = nh_.advertise<sensor_msgs::PointCloud2>("aar/reference_cloud", 5);
   markers_pub_ = nh_.advertise<visualization_msgs::MarkerArray>("aar/shadow_volumes", 2, true);
+  if (options_.step.cull_propellers && options_.step.propellers.empty()) {
+    ROS_WARN_STREAM("occlusion: cull_propellers is on, but the receiver description "
+                    << options_.receiver.path << " lists no propellers: nothing to cull");
+  }
   diagnostics_.setHardwareID("boom occlusion");
   diagnostics_.add("occlusion", this, &OcclusionNode::Diagnose);
   // Wall time: simulated time stands still in lockstep, and the status matters most then.
@@ -179,6 +183,7 @@ void OcclusionNode::OnCloud(const sensor_msgs::PointCloud2::ConstPtr& msg) {
     last_reference_error_ = reference_error;
     reference_failures_ += !reference_error.empty();
     last_boom_points_ = boom_count;
+    last_propeller_points_ = result.propeller_points;
     last_reference_both_ = result.reference.both;
     last_ms_ =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
@@ -196,6 +201,8 @@ void OcclusionNode::Diagnose(diagnostic_updater::DiagnosticStatusWrapper& status
   status.add("frames without a reference", reference_failures_);
   status.add("cull method", ToString(options_.step.cull));
   status.add("boom points removed (last frame)", last_boom_points_);
+  if (options_.step.cull_propellers)
+    status.add("of them, on the propeller discs (last frame)", last_propeller_points_);
   status.add("reference points seen by both cameras (last frame)", last_reference_both_);
   status.add("occlusion stage [ms] (last frame)", last_ms_);
   if (!step_->boom_error().empty()) {

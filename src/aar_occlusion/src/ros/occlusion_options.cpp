@@ -24,10 +24,18 @@ OcclusionNodeOptions LoadOcclusionNodeOptions(aar_ros_common::ParamReader& param
   step.build_reference = params.Get("publish_reference", step.build_reference);
   o.robot_description = params.Get("robot_description", o.robot_description);
   o.receiver = aar_ros_common::LoadReceiverModel(params, step.sampling);
+  for (const auto& p : o.receiver.propellers)  // the description's, for cull_propellers
+    step.propellers.push_back({p.hub, p.axis, p.radius, p.hub_radius});
   // Sampling does not cast rays here: the tolerance is the dynamic reference's self-occlusion.
   step.reference.visibility_tolerance = step.sampling.visibility_tolerance;
   step.reference.reshell_distance = params.Get("reshell_distance", step.reference.reshell_distance);
   step.max_point_range = params.Get("max_point_range", step.max_point_range);
+  step.seed_densest_ball =
+      params.GetChoice<bool>("seed_points", "all", {{"all", false}, {"densest_ball", true}});
+  step.cull_propellers = params.Get("cull_propellers", step.cull_propellers);
+  step.propeller_margin = params.GetNonNegative("propeller_margin", step.propeller_margin);
+  step.propeller_depth_margin =
+      params.GetNonNegative("propeller_depth_margin", step.propeller_depth_margin);
   params.Check(step.max_point_range > 0.0, "max_point_range", "must be > 0");
   o.frames = aar_ros_common::LoadStackFrames(params);
   o.tf_timeout = params.GetNonNegative("tf_timeout", o.tf_timeout);

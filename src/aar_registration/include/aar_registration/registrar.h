@@ -20,6 +20,9 @@ enum class ReferenceKind { kShelled, kWingsNose, kDense, kTopic };
 // Thesis: centroid of the sensed points with the tanker's orientation; or the previous estimate;
 // or the tracker's prediction at the frame's stamp (the centroid while acquiring).
 enum class SeedMode { kCentroid, kPrevious, kPrediction };
+// Which sensed points the centroid seed takes: all (thesis), or those in the densest ball of the
+// reference's size (aar_geometry::DensestBall; ours), which far clutter does not drag.
+enum class SeedPoints { kAll, kDensestBall };
 
 // A registration the tracker is not even asked about: too loose a fit to be a pose. Loose
 // defaults: far out (region A) the RMS of good registrations reaches half a metre (stereo
@@ -37,7 +40,8 @@ struct RegistrarOptions {
   std::vector<std::string> static_parts = {"left_wing", "right_wing", "nose"};
   IcpOptions icp;
   SeedMode seed = SeedMode::kCentroid;
-  double previous_max_age = 1.0;  // [s] older previous estimates are not used as seeds
+  SeedPoints seed_points = SeedPoints::kAll;  // of the centroid seed (also while acquiring)
+  double previous_max_age = 1.0;              // [s] older previous estimates are not used as seeds
   // Registers at most this many sensed points, a random subset drawn with subsample_seed on each
   // frame (0: all, the thesis).
   int max_sensed_points = 0;

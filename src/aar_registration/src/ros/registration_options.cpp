@@ -54,6 +54,9 @@ RegistrationNodeOptions LoadRegistrationNodeOptions(aar_ros_common::ParamReader&
                                       {{"centroid", SeedMode::kCentroid},
                                        {"previous", SeedMode::kPrevious},
                                        {"prediction", SeedMode::kPrediction}});
+  r.seed_points = params.GetChoice<SeedPoints>(
+      "seed_points", "all",
+      {{"all", SeedPoints::kAll}, {"densest_ball", SeedPoints::kDensestBall}});
   r.previous_max_age = params.Get("previous_max_age", r.previous_max_age);
   r.max_sensed_points = params.Get("max_sensed_points", r.max_sensed_points);
   r.max_cloud_points = params.Get("max_cloud_points", r.max_cloud_points);

@@ -86,6 +86,7 @@ class OcclusionNode {
   uint64_t frames_ = 0, unculled_frames_ = 0, reference_failures_ = 0;
   double last_ms_ = 0.0;
   size_t last_boom_points_ = 0, last_reference_both_ = 0;
+  size_t last_propeller_points_ = 0;  // of the boom points removed: on the propeller discs
 };
 
 }  // namespace aar_occlusion
