@@ -48,7 +48,18 @@ TEST(Config, EveryExperimentLoadsIntoEveryNode) {
         EXPECT_TRUE(occlusion.step.boom.cull_behind_boom);
         EXPECT_EQ(registration.registrar.reference, aar_registration::ReferenceKind::kWingsNose);
       }
-      if (name == "tracking") {  // the dynamic experiment's stages, then a tracker
+      const bool ours = name == "tracking" || name == "tracking_robust";
+      if (name == "tracking_robust") {  // tracking, with a robust seed and the propellers culled
+        EXPECT_EQ(registration.registrar.seed_points, aar_registration::SeedPoints::kDensestBall);
+        EXPECT_TRUE(occlusion.step.seed_densest_ball);
+        EXPECT_TRUE(occlusion.step.cull_propellers);
+        EXPECT_EQ(occlusion.step.propellers.size(), 2u);  // the C-12's, from its description
+      } else {
+        EXPECT_EQ(registration.registrar.seed_points, aar_registration::SeedPoints::kAll) << name;
+        EXPECT_FALSE(occlusion.step.seed_densest_ball) << name;
+        EXPECT_FALSE(occlusion.step.cull_propellers) << name;
+      }
+      if (ours) {  // the dynamic experiment's stages, then a tracker
         EXPECT_EQ(occlusion.step.cull, aar_occlusion::CullMethod::kVolumes);
         EXPECT_TRUE(occlusion.step.build_reference);
         EXPECT_EQ(registration.registrar.reference, aar_registration::ReferenceKind::kTopic);
@@ -70,7 +81,7 @@ TEST(Config, EveryExperimentLoadsIntoEveryNode) {
         EXPECT_TRUE(occlusion.step.build_reference);
         EXPECT_EQ(registration.registrar.reference, aar_registration::ReferenceKind::kTopic);
       }
-      if (name != "tracking") {  // the thesis's ICP: every point paired, stop when RMS stalls
+      if (!ours) {  // the thesis's ICP: every point paired, stop when RMS stalls
         EXPECT_EQ(registration.registrar.icp.max_correspondence_distance, 0.0) << name;
         EXPECT_EQ(registration.registrar.icp.min_rms_improvement, 0.0) << name;
         EXPECT_TRUE(registration.registrar.icp.stop_on_rms_rise) << name;
