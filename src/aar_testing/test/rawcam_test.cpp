@@ -20,71 +20,22 @@
 
 #include <Eigen/Core>
 
-#include "aar_testing/command.h"
-#include "aar_testing/paths.h"
+#include "aar_testing/pipeline_run.h"
 
 namespace {
 
-const std::string kRoot = aar_testing::WorkspaceRoot();
 constexpr int kFrames = 8;
 constexpr double kStart = 47.0;  // [s] path time
 
-struct FrameError {
-  double t = 0.0;  // [s] path time
-  bool estimated = false;
-  Eigen::Vector3d position_m = Eigen::Vector3d::Zero();  // along the true receiver axes
-  Eigen::Vector3d rpy_deg = Eigen::Vector3d::Zero();     // roll, pitch, yaw of the error
-};
-
-struct PipelineRun {
-  std::vector<FrameError> frames;
-  int estimated = 0;
-  double mean_position_m = NAN, mean_rotation_deg = NAN;  // over the estimated frames
-  std::string log;                                        // roslaunch's output
-};
+using FrameError = aar_testing::PipelineFrame;
+using PipelineRun = aar_testing::PipelineRun;
 
 PipelineRun RunPipeline(const std::string& tag, const std::string& args) {
-  const std::string out = ::testing::TempDir() + "/rawcam_" + tag;
-  std::filesystem::remove_all(out);
-  std::filesystem::create_directories(out);
-  const int port = aar_testing::FreeRosPort();
-  EXPECT_GT(port, 0);
-  std::ostringstream command;
-  command << "ROS_MASTER_URI=http://localhost:" << port
-          << " timeout --signal=INT --kill-after=20 240 roslaunch -p " << port << " " << kRoot
-          << "/launch/pipeline.launch experiment:=dynamic frames:=" << kFrames
-          << " start_time:=" << kStart << " " << args << " output_dir:=" << out << " > " << out
-          << ".log 2>&1";
-  EXPECT_EQ(std::system(command.str().c_str()), 0) << command.str() << " (log: " << out << ".log)";
-  PipelineRun run;
-  std::ifstream log(out + ".log");
-  run.log.assign(std::istreambuf_iterator<char>(log), std::istreambuf_iterator<char>());
-  std::ifstream csv(out + "/frames.csv");
-  EXPECT_TRUE(csv.good()) << out << "/frames.csv missing (log: " << out << ".log)";
-  std::string line;
-  std::getline(csv, line);  // t,range_m,region,estimated,x_m,y_m,z_m,roll_deg,pitch_deg,yaw_deg,...
-  double position = 0.0, rotation = 0.0;
-  while (std::getline(csv, line)) {
-    std::vector<std::string> f;
-    std::stringstream s(line);
-    for (std::string cell; std::getline(s, cell, ',');) f.push_back(cell);
-    if (f.size() < 10) continue;
-    FrameError e;
-    e.t = std::stod(f[0]);
-    e.estimated = f[3] == "1";
-    if (e.estimated) {
-      e.position_m = {std::stod(f[4]), std::stod(f[5]), std::stod(f[6])};
-      e.rpy_deg = {std::stod(f[7]), std::stod(f[8]), std::stod(f[9])};
-      ++run.estimated;
-      position += e.position_m.norm();
-      rotation += e.rpy_deg.norm();
-    }
-    run.frames.push_back(e);
-  }
-  if (run.estimated > 0) {
-    run.mean_position_m = position / run.estimated;
-    run.mean_rotation_deg = rotation / run.estimated;
-  }
+  PipelineRun run = aar_testing::RunPipeline(
+      "rawcam_" + tag, "experiment:=dynamic frames:=" + std::to_string(kFrames) +
+                           " start_time:=" + std::to_string(kStart) + " " + args);
+  EXPECT_TRUE(run.error.empty()) << run.error;
+  EXPECT_EQ(run.status, 0) << "(log: " << run.output_dir << ".log)";
   std::printf("[ rawcam ] %s (%s): %d of %zu frames estimated, mean error %.4f m, %.3f deg\n",
               tag.c_str(), args.c_str(), run.estimated, run.frames.size(), run.mean_position_m,
               run.mean_rotation_deg);
