@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 namespace aar_occlusion {
@@ -33,6 +34,29 @@ bool OnPropeller(const Eigen::Vector3d& eye, const Eigen::Vector3d& p,
   return false;
 }
 
+// Whether `p` (receiver frame, seen from `eye`) lies in `box`, or on the eye's ray through the box
+// within `depth_tolerance` short of where the ray enters it or beyond where it leaves.
+bool InGate(const Eigen::AlignedBox3d& box, const Eigen::Vector3d& eye, const Eigen::Vector3d& p,
+            double depth_tolerance) {
+  if (box.contains(p)) return true;
+  const Eigen::Vector3d v = p - eye;
+  const double range = v.norm();
+  if (!(range > 0.0)) return false;
+  const Eigen::Vector3d d = v / range;
+  double enter = 0.0, leave = std::numeric_limits<double>::infinity();  // slabs, along the ray
+  for (int k = 0; k < 3; ++k) {
+    if (std::abs(d[k]) < 1e-12) {
+      if (eye[k] < box.min()[k] || eye[k] > box.max()[k]) return false;
+      continue;
+    }
+    double t0 = (box.min()[k] - eye[k]) / d[k], t1 = (box.max()[k] - eye[k]) / d[k];
+    if (t0 > t1) std::swap(t0, t1);
+    enter = std::max(enter, t0);
+    leave = std::min(leave, t1);
+  }
+  return enter <= leave && range >= enter - depth_tolerance && range <= leave + depth_tolerance;
+}
+
 }  // namespace
 
 OcclusionStep::OcclusionStep(const OcclusionStepOptions& options,
@@ -50,6 +74,16 @@ OcclusionStep::OcclusionStep(const OcclusionStepOptions& options,
     }
   }
   if (receiver) receiver_radius_ = aar_geometry::HalfDiagonal(receiver->vertices);
+  if (options_.gate_receiver) {
+    if (receiver == nullptr)
+      throw std::invalid_argument("OcclusionStep: the receiver gate needs the receiver mesh");
+    if (!(options_.gate_margin >= 0.0) || !(options_.gate_depth_coefficient >= 0.0))
+      throw std::invalid_argument(
+          "OcclusionStep: gate_margin and gate_depth_coefficient must be >= 0");
+    receiver_box_ = receiver->Bounds();
+    const Eigen::Vector3d grow = Eigen::Vector3d::Constant(options_.gate_margin);
+    receiver_box_ = Eigen::AlignedBox3d(receiver_box_.min() - grow, receiver_box_.max() + grow);
+  }
   if (options_.build_reference) {
     if (receiver == nullptr)
       throw std::invalid_argument("OcclusionStep: a dynamic reference needs the receiver mesh");
@@ -114,7 +148,20 @@ OcclusionResult OcclusionStep::Process(const OcclusionInput& in) {
 
   std::vector<bool> is_boom(points.size(), false);
   if (r.boom_placed) is_boom = boom_->Cull(points, options_.cull);
-  for (size_t i = 0; i < points.size(); ++i) (is_boom[i] ? r.removed : r.kept).push_back(i);
+  // Boom points stay boom points (shown as such); the gate takes the rest outside the box.
+  const bool gate = options_.gate_receiver && in.T_tanker_receiver_predicted;
+  const Eigen::Isometry3d T_receiver_tanker =
+      gate ? in.T_tanker_receiver_predicted->inverse() : Eigen::Isometry3d::Identity();
+  const Eigen::Vector3d eye_in_receiver = T_receiver_tanker * in.left_eye;
+  for (size_t i = 0; i < points.size(); ++i) {
+    if (!is_boom[i] && gate &&
+        !InGate(receiver_box_, eye_in_receiver, T_receiver_tanker * points[i],
+                options_.gate_depth_coefficient * (points[i] - in.left_eye).squaredNorm())) {
+      ++r.gated;
+      continue;
+    }
+    (is_boom[i] ? r.removed : r.kept).push_back(i);
+  }
 
   // The propellers at the estimate's pose (not the seed's: it knows no attitude).
   if (options_.cull_propellers && in.T_tanker_receiver_predicted && !options_.propellers.empty()) {

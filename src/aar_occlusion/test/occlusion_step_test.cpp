@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdio>
 
 #include <aar_description/boom_model.h>
@@ -177,6 +178,54 @@ TEST(OcclusionStep, PropellerDiscsAreCulledAtTheEstimate) {
   in.T_tanker_receiver_predicted = T_tanker_receiver;
   options.cull_propellers = false;
   EXPECT_EQ(OcclusionStep(options, std::nullopt, "", nullptr).Process(in).kept.size(), 5u);
+}
+
+TEST(OcclusionStep, TheReceiverGateDropsClutterAwayFromTheEstimate) {
+  Scene scene;
+  OcclusionStepOptions options;
+  options.build_reference = false;
+  options.gate_receiver = true;
+  options.gate_margin = 3.0;
+  OcclusionStep step(options, scene.boom, "", &scene.receiver);
+  OcclusionInput in = scene.input;
+  const size_t surface = in.points.size();
+  const Eigen::Vector3d centre = scene.T_tanker_receiver.translation();
+  // Background mismatched into range behind the receiver, and a point 5 m beyond a wingtip.
+  in.points.push_back(centre + Eigen::Vector3d(-400.0, 3.0, 60.0));
+  in.points.push_back(centre + Eigen::Vector3d(-150.0, -20.0, 30.0));
+  in.points.push_back(scene.T_tanker_receiver *
+                      Eigen::Vector3d(0.0, scene.receiver.Bounds().min().y() - 5.0, 0.0));
+  // Just inside the grown box, 2.5 m beyond the other wingtip: kept.
+  in.points.push_back(scene.T_tanker_receiver *
+                      Eigen::Vector3d(0.0, scene.receiver.Bounds().max().y() + 2.5, 0.0));
+  in.T_tanker_receiver_predicted = scene.T_tanker_receiver;
+  const OcclusionResult r = step.Process(in);
+  EXPECT_EQ(r.gated, 3u);
+  EXPECT_EQ(r.kept.size() + r.removed.size() + r.gated, in.points.size());
+  EXPECT_EQ(std::count(r.kept.begin(), r.kept.end(), surface + 3), 1);
+  for (size_t i = surface; i < surface + 3; ++i) {
+    EXPECT_EQ(std::count(r.kept.begin(), r.kept.end(), i), 0) << i;
+    EXPECT_EQ(std::count(r.removed.begin(), r.removed.end(), i), 0) << i;
+  }
+  // Every receiver surface point is inside; the boom's stay boom (culled), not gated.
+  const OcclusionResult ungated_estimate = [&] {
+    OcclusionInput surface_only = scene.input;
+    surface_only.T_tanker_receiver_predicted = scene.T_tanker_receiver;
+    return step.Process(surface_only);
+  }();
+  EXPECT_EQ(ungated_estimate.gated, 0u);
+  // Without an estimate there is nothing to gate at: the thesis's cloud passes.
+  in.T_tanker_receiver_predicted.reset();
+  EXPECT_EQ(step.Process(in).gated, 0u);
+  // Off: nothing gated even with the estimate.
+  in.T_tanker_receiver_predicted = scene.T_tanker_receiver;
+  options.gate_receiver = false;
+  EXPECT_EQ(OcclusionStep(options, scene.boom, "", &scene.receiver).Process(in).gated, 0u);
+  // The gate needs the receiver; a negative margin is refused.
+  options.gate_receiver = true;
+  EXPECT_THROW(OcclusionStep(options, scene.boom, "", nullptr), std::invalid_argument);
+  options.gate_margin = -1.0;
+  EXPECT_THROW(OcclusionStep(options, scene.boom, "", &scene.receiver), std::invalid_argument);
 }
 
 }  // namespace

@@ -12,7 +12,8 @@
 // receiver: "other" then counts the background points that survive the stereo stage.
 // AAR_SUN=1 turns the sun on (config/realism/sun.yaml: shadows, glare) and AAR_PROPELLERS (blades
 // or disc; blades smeared over a 2 ms exposure) draws the receiver's propellers: "prop" counts
-// the points on pixels their blades cover at least half the exposure (issue 16).
+// the points on pixels their blades cover at least half the exposure (issue 16). AAR_DISP12=N
+// runs block matching with its left-right check at N px.
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -103,7 +104,9 @@ int main(int argc, char** argv) {
     }
     if (std::getenv("AAR_RECEIVER"))
       w.receiver = aar_description::LoadReceiverDescription(std::getenv("AAR_RECEIVER"));
-    const aar_stereo::StereoOptions options;  // thesis defaults: BM 9 / 48, every 8th point
+    aar_stereo::StereoOptions options;  // thesis defaults: BM 9 / 48, every 8th point
+    // AAR_DISP12 [px] turns block matching's left-right check on (disp12_max_diff).
+    if (const char* d = std::getenv("AAR_DISP12"); d && *d) options.disp12_max_diff = std::stoi(d);
     aar_testing::SimStereo sim(w, options);
     aar_sim::World& world = sim.world();
     const auto path = aar_sim::FlightPath::Load(std::getenv("AAR_FLIGHT_PATH")

@@ -184,6 +184,7 @@ void OcclusionNode::OnCloud(const sensor_msgs::PointCloud2::ConstPtr& msg) {
     reference_failures_ += !reference_error.empty();
     last_boom_points_ = boom_count;
     last_propeller_points_ = result.propeller_points;
+    last_gated_points_ = result.gated;
     last_reference_both_ = result.reference.both;
     last_ms_ =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
@@ -203,6 +204,8 @@ void OcclusionNode::Diagnose(diagnostic_updater::DiagnosticStatusWrapper& status
   status.add("boom points removed (last frame)", last_boom_points_);
   if (options_.step.cull_propellers)
     status.add("of them, on the propeller discs (last frame)", last_propeller_points_);
+  if (options_.step.gate_receiver)
+    status.add("points outside the receiver gate (last frame)", last_gated_points_);
   status.add("reference points seen by both cameras (last frame)", last_reference_both_);
   status.add("occlusion stage [ms] (last frame)", last_ms_);
   if (!step_->boom_error().empty()) {

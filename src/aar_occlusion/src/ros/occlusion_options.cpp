@@ -36,6 +36,10 @@ OcclusionNodeOptions LoadOcclusionNodeOptions(aar_ros_common::ParamReader& param
   step.propeller_margin = params.GetNonNegative("propeller_margin", step.propeller_margin);
   step.propeller_depth_margin =
       params.GetNonNegative("propeller_depth_margin", step.propeller_depth_margin);
+  step.gate_receiver = params.Get("gate_receiver", step.gate_receiver);
+  step.gate_margin = params.GetNonNegative("gate_margin", step.gate_margin);
+  step.gate_depth_coefficient =
+      params.GetNonNegative("gate_depth_coefficient", step.gate_depth_coefficient);
   params.Check(step.max_point_range > 0.0, "max_point_range", "must be > 0");
   o.frames = aar_ros_common::LoadStackFrames(params);
   o.tf_timeout = params.GetNonNegative("tf_timeout", o.tf_timeout);

@@ -87,6 +87,7 @@ class OcclusionNode {
   double last_ms_ = 0.0;
   size_t last_boom_points_ = 0, last_reference_both_ = 0;
   size_t last_propeller_points_ = 0;  // of the boom points removed: on the propeller discs
+  size_t last_gated_points_ = 0;      // dropped by the receiver gate
 };
 
 }  // namespace aar_occlusion
