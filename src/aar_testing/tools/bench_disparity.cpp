@@ -8,9 +8,10 @@
 // cloud (every 8th point, the boom culled) is registered from the true pose against the dynamic
 // reference built at the true pose, with tracking_robust's ICP (point-to-point, 1 m pairs, at
 // most 3,000 points): the offset it settles at [cm, deg], receiver frame, is what stereo's points
-// alone make ICP believe; and the same with point-to-plane. The last two rows change only the
-// registered cloud of read-noise frames: zero-mean disparity noise along each ray, or a share
-// of the points dropped at random (which of the two does the sensor model's harm?).
+// alone make ICP believe; and the same with point-to-plane. Two rows change only the registered
+// cloud of read-noise frames: zero-mean disparity noise along each ray, or a share of the points
+// dropped at random (which of the two does the sensor model's harm?); the last two build it from
+// the disparity after a median filter (does less scatter undo it?).
 //   bench_disparity [FRAMES] [FIRST_T] [LAST_T]
 #include <algorithm>
 #include <cmath>
@@ -39,6 +40,7 @@ struct Variant {
   // share of its points dropped at random.
   double extra_disparity_sd = 0.0;
   double drop = 0.0;
+  int median = 0;  // [px] a median filter of this size over the disparity before the cloud
 };
 
 struct Stats {
@@ -64,7 +66,9 @@ int main(int argc, char** argv) {
                               {"sensor.yaml (no blur)", 2.0, 10000.0, true, 0.03},
                               {"read noise 3 (no shot)", 3.0, 0.0, false, 0.0},
                               {"read noise, +0.2 px on rays", 2.0, 0.0, false, 0.0, 0.2, 0.0},
-                              {"read noise, 19 % dropped", 2.0, 0.0, false, 0.0, 0.0, 0.19}};
+                              {"read noise, 19 % dropped", 2.0, 0.0, false, 0.0, 0.0, 0.19},
+                              {"read noise, median 5", 2.0, 0.0, false, 0.0, 0.0, 0.0, 5},
+                              {"sensor.yaml, median 5", 2.0, 10000.0, true, 0.03, 0.0, 0.0, 5}};
   try {
     const auto path = aar_sim::FlightPath::Load(std::getenv("AAR_FLIGHT_PATH")
                                                     ? std::getenv("AAR_FLIGHT_PATH")
@@ -108,6 +112,23 @@ int main(int argc, char** argv) {
           const aar_stereo::StereoResult cloud =
               decimated.Process(sim.Left(f.rendered), sim.Right(f.rendered), sim.geometry());
           aar_stereo::CloudPoints points = cloud.cloud;
+          if (v.median > 0) {  // every 8th valid point of the filtered disparity, as decimated
+            cv::Mat filtered;
+            cv::medianBlur(f.stereo.disparity, filtered, v.median);
+            const aar_stereo::StereoGeometry& g = sim.geometry();
+            points = aar_stereo::CloudPoints();
+            int valid = 0;
+            for (int r = 0; r < filtered.rows; ++r) {
+              for (int c = 0; c < filtered.cols; ++c) {
+                const float d = filtered.at<float>(r, c);
+                if (!(d > options.min_disparity)) continue;
+                const double z = fB / d;
+                const Eigen::Vector3f p((c - g.cx_left) * z / g.fx, (r - g.cy) * z / g.fy, z);
+                if (p.norm() > options.max_range || valid++ % options.keep_every) continue;
+                points.xyz.push_back(p);
+              }
+            }
+          }
           if (v.extra_disparity_sd > 0.0 || v.drop > 0.0) {
             std::normal_distribution<double> noise(0.0, v.extra_disparity_sd);
             std::uniform_real_distribution<double> uniform(0.0, 1.0);
