@@ -54,10 +54,13 @@ TEST(Config, EveryExperimentLoadsIntoEveryNode) {
         EXPECT_TRUE(occlusion.step.seed_densest_ball);
         EXPECT_TRUE(occlusion.step.cull_propellers);
         EXPECT_EQ(occlusion.step.propellers.size(), 2u);  // the C-12's, from its description
+        EXPECT_TRUE(occlusion.step.gate_receiver);
+        EXPECT_EQ(occlusion.step.gate_margin, 3.0);
       } else {
         EXPECT_EQ(registration.registrar.seed_points, aar_registration::SeedPoints::kAll) << name;
         EXPECT_FALSE(occlusion.step.seed_densest_ball) << name;
         EXPECT_FALSE(occlusion.step.cull_propellers) << name;
+        EXPECT_FALSE(occlusion.step.gate_receiver) << name;
       }
       if (ours) {  // the dynamic experiment's stages, then a tracker
         EXPECT_EQ(occlusion.step.cull, aar_occlusion::CullMethod::kVolumes);
@@ -346,6 +349,33 @@ TEST(Config, SunAndPropellersOffByDefaultPresetsLoadBadValuesRefused) {
        {"sun_glass_specular", XmlRpc::XmlRpcValue(-1.0), "/sim_sun_bad/sun_glass_specular"},
        {"sun_shadows", XmlRpc::XmlRpcValue(3.0), "/sim_sun_bad/sun_shadows"},
        {"propellers", XmlRpc::XmlRpcValue("spinning"), "/sim_sun_bad/propellers must be one of"}});
+}
+
+// The receiver gate's keys: off by default, negative values refused naming the key.
+TEST(Config, ReceiverGateOffByDefaultBadValuesRefused) {
+  ros::NodeHandle good("/occlusion_gate");
+  good.setParam("gate_receiver", true);
+  good.setParam("gate_depth_coefficient", 0.0);
+  try {
+    EXPECT_FALSE(aar_occlusion::LoadOcclusionNodeOptions(ros::NodeHandle("/occlusion_default"))
+                     .step.gate_receiver);
+    const auto o = aar_occlusion::LoadOcclusionNodeOptions(good);
+    EXPECT_TRUE(o.step.gate_receiver);
+    EXPECT_EQ(o.step.gate_depth_coefficient, 0.0);
+  } catch (const std::exception& e) {
+    ADD_FAILURE() << e.what();
+  }
+  for (const char* key : {"gate_margin", "gate_depth_coefficient"}) {
+    ros::NodeHandle bad(std::string("/occlusion_gate_bad_") + key);
+    bad.setParam(key, -1.0);
+    try {
+      aar_occlusion::LoadOcclusionNodeOptions(bad);
+      ADD_FAILURE() << key << " = -1 was accepted";
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find(bad.getNamespace() + "/" + key), std::string::npos)
+          << e.what();
+    }
+  }
 }
 
 }  // namespace
