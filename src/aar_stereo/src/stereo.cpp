@@ -43,6 +43,8 @@ void StereoOptions::Validate() const {
   Check(texture_threshold >= 0, "texture_threshold must not be negative");
   Check(uniqueness_ratio >= 0, "uniqueness_ratio must not be negative");
   Check(speckle_window_size >= 0 && speckle_range >= 0, "speckle settings must not be negative");
+  Check(median_filter == 0 || median_filter == 3 || median_filter == 5,
+        "median_filter must be 0 (off), 3 or 5, not " + std::to_string(median_filter));
   Check(max_range > 0.0, "max_range must be positive");
   Check(decimation != Decimation::kEveryNth || keep_every >= 1, "keep_every must be at least 1");
   Check(decimation != Decimation::kVoxelGrid || voxel_size > 0.0, "voxel_size must be positive");
@@ -197,6 +199,14 @@ StereoResult StereoProcessor::Process(const cv::Mat& left, const cv::Mat& right,
       const short d = src[u - match.x];
       if (d > invalid16) dst[u] = d / 16.0f - shift;
     }
+  }
+  if (o.median_filter > 0 && roi.area() > 0) {
+    const cv::Mat region = result.disparity(roi);
+    cv::Mat filtered;
+    cv::medianBlur(region, filtered, o.median_filter);
+    // Where nothing matched nothing is made up; a median of mostly unmatched pixels is unmatched.
+    filtered.setTo(invalid, region <= invalid);
+    filtered.copyTo(region);
   }
   const auto t1 = Clock::now();
 

@@ -31,6 +31,10 @@ struct StereoOptions {
   int sgbm_p1 = 0;                // SGBM smoothness; 0: 8 * block_size^2
   int sgbm_p2 = 0;                // SGBM smoothness; 0: 32 * block_size^2
   bool sgbm_full_dp = false;      // SGBM: full 8-direction dynamic programming
+  // [px] 0 off, 3 or 5 (not in the thesis; issue 16): a median filter over the valid disparities
+  // before the cloud, against depth scatter (it biases point-to-point ICP towards the cameras:
+  // docs/realism/README.md). Pixels without a match stay without one.
+  int median_filter = 0;
 
   double max_range = 750.0;  // [m] points farther along the optical axis are dropped
   Decimation decimation = Decimation::kEveryNth;

@@ -137,6 +137,8 @@ StereoOptions ToStereoOptions(StereoConfig& c) {
   o.sgbm_p1 = c.sgbm_p1;
   o.sgbm_p2 = c.sgbm_p2;
   o.sgbm_full_dp = c.sgbm_full_dp;
+  c.median_filter = c.median_filter <= 0 ? 0 : c.median_filter <= 3 ? 3 : 5;
+  o.median_filter = c.median_filter;
   o.max_range = c.max_range;
   o.decimation = c.decimation == Stereo_none         ? Decimation::kNone
                  : c.decimation == Stereo_voxel_grid ? Decimation::kVoxelGrid
