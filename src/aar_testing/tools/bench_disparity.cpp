@@ -10,8 +10,8 @@
 // most 3,000 points): the offset it settles at [cm, deg], receiver frame, is what stereo's points
 // alone make ICP believe; and the same with point-to-plane. Two rows change only the registered
 // cloud of read-noise frames: zero-mean disparity noise along each ray, or a share of the points
-// dropped at random (which of the two does the sensor model's harm?); the last two build it from
-// the disparity after a median filter (does less scatter undo it?).
+// dropped at random (which of the two does the sensor model's harm?); the last two build it with
+// aar_stereo's median_filter 5 (does less scatter undo it?).
 //   bench_disparity [FRAMES] [FIRST_T] [LAST_T]
 #include <algorithm>
 #include <cmath>
@@ -40,7 +40,7 @@ struct Variant {
   // share of its points dropped at random.
   double extra_disparity_sd = 0.0;
   double drop = 0.0;
-  int median = 0;  // [px] a median filter of this size over the disparity before the cloud
+  int median = 0;  // [px] aar_stereo's median_filter for the registered cloud (0: off)
 };
 
 struct Stats {
@@ -86,6 +86,7 @@ int main(int argc, char** argv) {
       options.decimation = aar_stereo::Decimation::kNone;
       aar_testing::SimStereo sim(w, options);
       aar_stereo::StereoOptions every8th;  // the thesis's decimation, as the pipeline
+      every8th.median_filter = v.median;
       const aar_stereo::StereoProcessor decimated(every8th);
       aar_occlusion::OcclusionStepOptions occlusion;  // volumes; the dynamic reference
       aar_occlusion::OcclusionStep step(occlusion, aar_testing::LoadBoomModel(), "",
@@ -112,23 +113,6 @@ int main(int argc, char** argv) {
           const aar_stereo::StereoResult cloud =
               decimated.Process(sim.Left(f.rendered), sim.Right(f.rendered), sim.geometry());
           aar_stereo::CloudPoints points = cloud.cloud;
-          if (v.median > 0) {  // every 8th valid point of the filtered disparity, as decimated
-            cv::Mat filtered;
-            cv::medianBlur(f.stereo.disparity, filtered, v.median);
-            const aar_stereo::StereoGeometry& g = sim.geometry();
-            points = aar_stereo::CloudPoints();
-            int valid = 0;
-            for (int r = 0; r < filtered.rows; ++r) {
-              for (int c = 0; c < filtered.cols; ++c) {
-                const float d = filtered.at<float>(r, c);
-                if (!(d > options.min_disparity)) continue;
-                const double z = fB / d;
-                const Eigen::Vector3f p((c - g.cx_left) * z / g.fx, (r - g.cy) * z / g.fy, z);
-                if (p.norm() > options.max_range || valid++ % options.keep_every) continue;
-                points.xyz.push_back(p);
-              }
-            }
-          }
           if (v.extra_disparity_sd > 0.0 || v.drop > 0.0) {
             std::normal_distribution<double> noise(0.0, v.extra_disparity_sd);
             std::uniform_real_distribution<double> uniform(0.0, 1.0);
