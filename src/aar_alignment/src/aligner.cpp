@@ -1,0 +1,571 @@
+#include "aar_alignment/aligner.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <stdexcept>
+
+#include <opencv2/imgproc.hpp>
+
+#include "aar_alignment/search.h"
+#include "aar_alignment/statistics.h"
+
+namespace aar_alignment {
+namespace {
+
+constexpr float kUnseen = -1.0f;  // a sample outside the image or on the boom
+constexpr double kInlierPx = 1.5;
+constexpr int kRingSamples = 4000;    // background pixels read around the receiver per view
+constexpr int kMinRingSamples = 200;  // fewer: the receiver fills the image
+
+Eigen::Matrix3d Skew(const Eigen::Vector3d& v) {
+  Eigen::Matrix3d m;
+  m << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
+  return m;
+}
+
+Eigen::Matrix3d Exp(const Eigen::Vector3d& w) {
+  const double a = w.norm();
+  if (a < 1e-12) return Eigen::Matrix3d::Identity();
+  return Eigen::AngleAxisd(a, w / a).toRotationMatrix();
+}
+
+// One camera of the pair as the stages see it.
+struct View {
+  const cv::Mat* image = nullptr;
+  const PinholeCamera* camera = nullptr;
+  Eigen::Isometry3d T_optical_tanker;
+  cv::Mat boom;  // CV_8U, 1 where the boom's projection (grown) lies; empty: no boom
+};
+
+// A correspondence line across the outline: samples from inside (negative x) to outside.
+struct Line {
+  int view = 0;
+  Eigen::Vector3d body;
+  Eigen::Vector2d center, normal;
+  // The receiver's expected image along the line, smoothed: the probability that the pixel z px
+  // outward of the outline is the receiver is expected[z + half] (ContourPoint::profile).
+  std::vector<float> expected;
+  std::vector<float> grey;            // per pixel along the line (kUnseen: not seen)
+  std::vector<float> foreground;      // per pixel: probability of the receiver, or kUnseen
+  double mean = 0.0, variance = 0.0;  // [px] where the outline lies along the line
+  double fit = 0.0;  // [0, 1] how surely the outline lies within kInlierPx of the prediction
+  bool usable = false;
+};
+
+// The boom's convex parts projected into one camera, grown by `margin` [px]. A part that reaches
+// behind the camera's plane is clipped to it first.
+cv::Mat BoomMask(const PinholeCamera& c, const Eigen::Isometry3d& T_optical_tanker,
+                 const std::vector<std::vector<Eigen::Vector3d>>& parts, double margin) {
+  if (parts.empty()) return {};
+  constexpr double kNear = 0.05;  // [m]
+  cv::Mat mask = cv::Mat::zeros(c.height, c.width, CV_8U);
+  for (const auto& part : parts) {
+    std::vector<Eigen::Vector3d> front, back;
+    for (const auto& p : part)
+      (T_optical_tanker * p).z() > kNear ? front.push_back(T_optical_tanker * p)
+                                         : back.push_back(T_optical_tanker * p);
+    std::vector<Eigen::Vector3d> kept = front;
+    for (const auto& a : front)
+      for (const auto& b : back) kept.push_back(b + (a - b) * (kNear - b.z()) / (a.z() - b.z()));
+    if (front.empty()) continue;
+    std::vector<cv::Point2f> pixels;
+    for (const auto& y : kept)
+      pixels.emplace_back(c.fx * y.x() / y.z() + c.cx, c.fy * y.y() / y.z() + c.cy);
+    std::vector<cv::Point2f> hull;
+    cv::convexHull(pixels, hull);
+    cv::Point2f centre(0.f, 0.f);
+    for (const auto& h : hull) centre += h / static_cast<float>(hull.size());
+    std::vector<cv::Point> grown;
+    for (const auto& h : hull) {
+      const cv::Point2f d = h - centre;
+      const float len = std::max(1e-3f, std::hypot(d.x, d.y));
+      const cv::Point2f g = h + d * static_cast<float>(margin / len);
+      grown.emplace_back(static_cast<int>(std::lround(std::clamp(g.x, -1e6f, 1e6f))),
+                         static_cast<int>(std::lround(std::clamp(g.y, -1e6f, 1e6f))));
+    }
+    cv::fillConvexPoly(mask, grown, cv::Scalar(1));
+  }
+  return mask;
+}
+
+float Bilinear(const cv::Mat& image, double x, double y) {
+  const int x0 = static_cast<int>(std::floor(x)), y0 = static_cast<int>(std::floor(y));
+  const float fx = static_cast<float>(x - x0), fy = static_cast<float>(y - y0);
+  const uint8_t* r0 = image.ptr<uint8_t>(y0);
+  const uint8_t* r1 = image.ptr<uint8_t>(y0 + 1);
+  return (1 - fy) * ((1 - fx) * r0[x0] + fx * r0[x0 + 1]) +
+         fy * ((1 - fx) * r1[x0] + fx * r1[x0 + 1]);
+}
+
+// The geometry of a line at one stage of scale s: `pixels` samples one pixel apart, centred on
+// the predicted outline (x = i - pixels / 2 + 0.5 [px], inside negative); the outline's place is
+// tried at hypotheses s px apart, each judged on the `window` px around it.
+struct LineShape {
+  int pixels = 0;
+  int hypotheses = 0;  // at d_j = (j - (hypotheses - 1) / 2) s [px]
+  double spacing = 1.0;
+  double window = 0.0;  // [px] either side of a hypothesis
+  double slope = 0.5;   // [px] of the smoothed steps (the profile's smoothing radius)
+
+  LineShape(const AlignmentOptions& o, double scale)
+      : hypotheses(o.line_samples - o.step_window + 1),
+        spacing(scale),
+        window(0.5 * o.step_window * scale),
+        slope(o.step_slope) {
+    pixels = 2 * static_cast<int>(std::ceil(0.5 * (hypotheses - 1) * scale + window));
+  }
+  double X(int i) const { return i - 0.5 * pixels + 0.5; }
+  double D(int j) const { return (j - 0.5 * (hypotheses - 1)) * spacing; }
+};
+
+// Reads a line's grey values, one per pixel along it; kUnseen outside the image or on the boom.
+void Sample(const View& v, const LineShape& shape, Line& line) {
+  line.grey.assign(static_cast<size_t>(shape.pixels), kUnseen);
+  const int w = v.image->cols, h = v.image->rows;
+  for (int i = 0; i < shape.pixels; ++i) {
+    const Eigen::Vector2d p = line.center + shape.X(i) * line.normal;
+    if (!(p.x() >= 0.0 && p.y() >= 0.0 && p.x() < w - 1 && p.y() < h - 1)) continue;
+    if (!v.boom.empty() && v.boom.at<uint8_t>(static_cast<int>(std::lround(p.y())),
+                                              static_cast<int>(std::lround(p.x()))))
+      continue;
+    line.grey[i] = Bilinear(*v.image, p.x(), p.y());
+  }
+}
+
+// The probability that the pixel z [px] outward of the predicted outline is the receiver.
+float Expected(const Line& l, double z) {
+  const int half = static_cast<int>(l.expected.size() / 2);
+  const int i = static_cast<int>(std::floor(z)) + half;
+  return l.expected[std::clamp(i, 0, 2 * half - 1)];
+}
+
+// The smoothed profile (Line::expected): the profile averaged over `radius` px either side, as
+// probabilities 1/2 -+ amplitude (SRT3D's smoothed step); beyond the profile, background.
+std::vector<float> Smoothed(const std::vector<uint8_t>& profile, int radius, double amplitude) {
+  const int n = static_cast<int>(profile.size());
+  std::vector<int> sum(n + 1, 0);
+  for (int i = 0; i < n; ++i) sum[i + 1] = sum[i] + profile[i];
+  std::vector<float> out(n);
+  for (int i = 0; i < n; ++i) {
+    const int a = std::max(0, i - radius), b = std::min(n, i + radius + 1);
+    const double share = static_cast<double>(sum[b] - sum[a]) / (2 * radius + 1);
+    out[i] = static_cast<float>(0.5 + amplitude * (2.0 * share - 1.0));
+  }
+  return out;
+}
+
+// The grey statistics of one view: the ring around the receiver against the lines' pixels
+// (GreyPosterior::FromNeighbourhood); where the receiver fills the image and leaves no ring,
+// the lines' pixels that the predicted outline gives the receiver against the others.
+GreyPosterior Posterior(const View& v, const std::vector<Line>& lines, int view,
+                        const std::vector<ContourPoint>& contour, const LineShape& shape,
+                        int bins) {
+  Eigen::AlignedBox2d box;
+  for (const ContourPoint& c : contour) box.extend(c.pixel);
+  const std::vector<float> ring = RingSamples(
+      *v.image, v.boom, box, std::max(24.0, 0.1 * box.sizes().maxCoeff()), kRingSamples);
+  std::vector<float> near, receiver, background;
+  for (const Line& l : lines) {
+    if (l.view != view) continue;
+    for (int i = 0; i < shape.pixels; ++i) {
+      if (l.grey[i] == kUnseen) continue;
+      near.push_back(l.grey[i]);
+      if (std::abs(shape.X(i)) <= shape.window)
+        (Expected(l, shape.X(i)) > 0.5 ? receiver : background).push_back(l.grey[i]);
+    }
+  }
+  if (static_cast<int>(ring.size()) >= kMinRingSamples)
+    return GreyPosterior::FromNeighbourhood(ring, near, bins);
+  return GreyPosterior::FromLabels(receiver, background, bins);
+}
+
+// Each pixel's probability of being the receiver, then the distribution of the outline's place
+// over the hypotheses, as mean and variance [px].
+// Log-likelihood of each hypothesis from the receiver probabilities (LineModel::kRegion): each is
+// judged on the window around it only, so that other parts of the receiver further along the
+// line do not spoil it.
+std::vector<double> RegionLikelihood(const LineShape& shape, const Line& l) {
+  std::vector<double> logp(shape.hypotheses, 0.0);
+  for (int j = 0; j < shape.hypotheses; ++j) {
+    const double d = shape.D(j);
+    for (int i = 0; i < shape.pixels; ++i) {
+      const double z = shape.X(i) - d;
+      if (std::abs(z) > shape.window) continue;
+      const double h = Expected(l, z);
+      logp[j] += std::log(h * l.foreground[i] + (1.0 - h) * (1.0 - l.foreground[i]));
+    }
+  }
+  return logp;
+}
+
+// Log-likelihood of each hypothesis from the grey values alone (LineModel::kContrast): the line's
+// pixels split into receiver and background by the shifted profile, each class its own mean grey
+// with Gaussian noise of a common variance (profile likelihood -n/2 log(SSE / n)). Every
+// hypothesis is judged on all the line's pixels, so that a uniform stretch cannot win by itself.
+std::vector<double> ContrastLikelihood(const LineShape& shape, const Line& l) {
+  constexpr double kNoiseFloor = 4.0;  // [grey^2] per pixel: uniform sky is not infinitely sure
+  std::vector<double> logp(shape.hypotheses, 0.0);
+  const double n = shape.pixels;
+  for (int j = 0; j < shape.hypotheses; ++j) {
+    const double d = shape.D(j);
+    double count[2] = {0, 0}, sum[2] = {0, 0}, square[2] = {0, 0};
+    for (int i = 0; i < shape.pixels; ++i) {
+      const int c = Expected(l, shape.X(i) - d) > 0.5;
+      const double g = l.grey[i];
+      count[c] += 1.0, sum[c] += g, square[c] += g * g;
+    }
+    double sse = 0.0;
+    for (int c = 0; c < 2; ++c)
+      if (count[c] > 0.0) sse += square[c] - sum[c] * sum[c] / count[c];
+    logp[j] = -0.5 * n * std::log(sse / n + kNoiseFloor);
+  }
+  return logp;
+}
+
+// The distribution of the outline's place along the line (mean, variance, fit). As
+// SRT3D, a line with any pixel unseen (outside the image, on the boom) is not used: an unseen
+// pixel favours the hypotheses whose window it lies in.
+void Distribution(const LineShape& shape, LineModel model, const GreyPosterior& posterior,
+                  Line& l) {
+  l.usable = std::find(l.grey.begin(), l.grey.end(), kUnseen) == l.grey.end();
+  if (!l.usable) return;
+  if (model == LineModel::kRegion) {
+    l.foreground.resize(shape.pixels);
+    for (int i = 0; i < shape.pixels; ++i) l.foreground[i] = posterior(l.grey[i]);
+  }
+  const std::vector<double> logp =
+      model == LineModel::kContrast ? ContrastLikelihood(shape, l) : RegionLikelihood(shape, l);
+  const double top = *std::max_element(logp.begin(), logp.end());
+  double sum = 0.0, mean = 0.0, square = 0.0;
+  for (int j = 0; j < shape.hypotheses; ++j) {
+    const double p = std::exp(logp[j] - top), d = shape.D(j);
+    sum += p, mean += p * d, square += p * d * d;
+  }
+  l.mean = mean / sum;
+  l.variance = std::max(square / sum - l.mean * l.mean, shape.spacing * shape.spacing / 12.0);
+  // The fit: how much more the distribution puts within kInlierPx of the predicted outline than
+  // a line without any edge would (a flat distribution), in [0, 1].
+  double near = 0.0;
+  int near_hypotheses = 0;
+  for (int j = 0; j < shape.hypotheses; ++j) {
+    if (std::abs(shape.D(j)) > kInlierPx) continue;
+    near += std::exp(logp[j] - top) / sum;
+    ++near_hypotheses;
+  }
+  const double flat = static_cast<double>(near_hypotheses) / shape.hypotheses;
+  l.fit = std::max(0.0, (near - flat) / (1.0 - flat));
+}
+
+// The line's row of the Gauss-Newton system: d(offset of the projected outline along the normal)
+// / d(pose error [dp, dtheta]) at the pose (R, p).
+Eigen::Matrix<double, 1, 6> Jacobian(const View& v, const Eigen::Matrix3d& R,
+                                     const Eigen::Vector3d& p, const Line& l) {
+  const Eigen::Vector3d offset = R * l.body;
+  const Eigen::Vector3d y = v.T_optical_tanker * (offset + p);
+  const PinholeCamera& c = *v.camera;
+  Eigen::Matrix<double, 2, 3> du;
+  du << c.fx / y.z(), 0.0, -c.fx * y.x() / (y.z() * y.z()), 0.0, c.fy / y.z(),
+      -c.fy * y.y() / (y.z() * y.z());
+  const Eigen::Matrix<double, 2, 3> A = du * v.T_optical_tanker.linear();
+  Eigen::Matrix<double, 2, 6> J;
+  J << A, -A * Skew(offset);
+  return l.normal.transpose() * J;
+}
+
+struct Pass {
+  std::vector<Line> lines;
+  Matrix6d H = Matrix6d::Zero();
+  Vector6d g = Vector6d::Zero();
+  int usable = 0;
+  double fit = 0.0;  // sum over usable lines of Line::fit
+  int inliers = 0;
+};
+
+// Lines through the outline points at the pose, their statistics and the Gauss-Newton system.
+Pass Evaluate(const AlignmentOptions& o, const std::vector<View>& views,
+              const std::vector<std::vector<ContourPoint>>& contours, const Eigen::Matrix3d& R,
+              const Eigen::Vector3d& p, double scale) {
+  Pass pass;
+  const LineShape shape(o, scale);
+  for (size_t v = 0; v < views.size(); ++v) {
+    const Eigen::Isometry3d T = views[v].T_optical_tanker;
+    const PinholeCamera& c = *views[v].camera;
+    for (const ContourPoint& cp : contours[v]) {
+      Line l;
+      l.view = static_cast<int>(v);
+      l.body = cp.body;
+      l.normal = cp.normal;
+      l.expected =
+          Smoothed(cp.profile, static_cast<int>(std::lround(shape.slope)), o.step_amplitude);
+      const Eigen::Vector3d y = T * (R * cp.body + p);
+      if (!(y.z() > 0.1)) continue;
+      l.center = c.Project(y);
+      Sample(views[v], shape, l);
+      pass.lines.push_back(std::move(l));
+    }
+  }
+  for (size_t v = 0; v < views.size(); ++v) {
+    const GreyPosterior posterior = o.line_model == LineModel::kRegion
+                                        ? Posterior(views[v], pass.lines, static_cast<int>(v),
+                                                    contours[v], shape, o.histogram_bins)
+                                        : GreyPosterior();
+    for (Line& l : pass.lines)
+      if (l.view == static_cast<int>(v)) Distribution(shape, o.line_model, posterior, l);
+  }
+  for (const Line& l : pass.lines) {
+    if (!l.usable) continue;
+    ++pass.usable;
+    const Eigen::Matrix<double, 1, 6> j = Jacobian(views[l.view], R, p, l);
+    pass.H += j.transpose() * j / l.variance;
+    pass.g += j.transpose() * l.mean / l.variance;
+    pass.inliers += l.fit > 0.5;
+    pass.fit += l.fit;
+  }
+  return pass;
+}
+
+// The prediction's information: the inverse of its covariance, or the options' prior.
+Matrix6d PriorInformation(const AlignmentOptions& o, const Matrix6d& covariance) {
+  if (covariance.allFinite() && covariance.trace() > 0.0) {
+    const Eigen::LDLT<Matrix6d> ldlt(covariance);
+    if (ldlt.info() == Eigen::Success && ldlt.isPositive()) return ldlt.solve(Matrix6d::Identity());
+  }
+  Vector6d d;
+  d << Eigen::Vector3d::Constant(1.0 / (o.prior_sigma_position * o.prior_sigma_position)),
+      Eigen::Vector3d::Constant(1.0 / (o.prior_sigma_rotation * o.prior_sigma_rotation));
+  return d.asDiagonal();
+}
+
+std::string CheckInput(const AlignmentInput& in) {
+  const std::pair<const cv::Mat*, const PinholeCamera*> views[] = {{&in.left, &in.left_camera},
+                                                                   {&in.right, &in.right_camera}};
+  for (int i = 0; i < 2; ++i) {
+    const char* name = i == 0 ? "left" : "right";
+    const cv::Mat& m = *views[i].first;
+    const PinholeCamera& c = *views[i].second;
+    if (m.empty()) return std::string("the ") + name + " image is empty";
+    if (m.type() != CV_8UC1) return std::string("the ") + name + " image is not mono8";
+    if (!(c.fx > 0.0 && c.fy > 0.0) || c.width < 2 || c.height < 2)
+      return std::string("the ") + name + " camera has no size or focal length";
+    if (m.cols != c.width || m.rows != c.height)
+      return std::string("the ") + name + " image's size differs from its camera's";
+  }
+  if (!in.T_tanker_receiver_predicted.matrix().allFinite())
+    return "the predicted pose is not finite";
+  return "";
+}
+}  // namespace
+
+LineModel ParseLineModel(const std::string& name) {
+  if (name == "region") return LineModel::kRegion;
+  if (name == "contrast") return LineModel::kContrast;
+  throw std::invalid_argument("line_model must be region or contrast, not '" + name + "'");
+}
+
+std::string ToString(LineModel model) {
+  return model == LineModel::kRegion ? "region" : "contrast";
+}
+
+void AlignmentOptions::Validate() const {
+  auto fail = [](const std::string& what) {
+    throw std::invalid_argument("alignment option " + what);
+  };
+  if (scales.empty()) fail("scales: needs at least one stage");
+  for (const double s : scales)
+    if (!(s >= 1.0 && s <= 16.0) || s != std::floor(s))
+      fail("scales: each must be a whole number of pixels in [1, 16]");
+  if (iterations_per_scale < 1) fail("iterations_per_scale must be at least 1");
+  if (line_samples < 4 || line_samples % 2 != 0 || line_samples > 64)
+    fail("line_samples must be even, in [4, 64]");
+  if (step_window < 2 || step_window % 2 != 0 || step_window > line_samples)
+    fail("step_window must be even, in [2, line_samples]");
+  if (contour_points < 8) fail("contour_points must be at least 8");
+  if (mask_size < 32) fail("mask_size must be at least 32");
+  if (histogram_bins < 2 || histogram_bins > 256) fail("histogram_bins must lie in [2, 256]");
+  if (!(step_amplitude > 0.0 && step_amplitude < 0.5)) fail("step_amplitude must lie in (0, 0.5)");
+  if (!(step_slope > 0.0)) fail("step_slope must be positive");
+  if (!(boom_margin_px >= 0.0)) fail("boom_margin_px must not be negative");
+  if (!(covariance_scale > 0.0)) fail("covariance_scale must be positive");
+  if (!(prior_sigma_position > 0.0) || !(prior_sigma_rotation > 0.0))
+    fail("prior_sigma_position and prior_sigma_rotation must be positive");
+  if (min_lines < 6) fail("min_lines must be at least 6");
+}
+
+OutlineAligner::OutlineAligner(const aar_geometry::TriangleMesh& receiver,
+                               const AlignmentOptions& options)
+    : options_(options), model_(receiver) {
+  options_.Validate();
+}
+
+// The state of one alignment: both views, the pose and the outline at it.
+class OutlineAligner::Run {
+ public:
+  Run(const OutlineAligner& aligner, const AlignmentInput& in)
+      : o_(aligner.options_), model_(aligner.model_), in_(in), views_(2) {
+    const cv::Mat* images[] = {&in.left, &in.right};
+    const PinholeCamera* cameras[] = {&in.left_camera, &in.right_camera};
+    for (int i = 0; i < 2; ++i) {
+      views_[i].image = images[i];
+      views_[i].camera = cameras[i];
+      views_[i].T_optical_tanker = cameras[i]->T_tanker_optical.inverse();
+      views_[i].boom = BoomMask(*cameras[i], views_[i].T_optical_tanker, in.boom_parts_in_tanker,
+                                o_.boom_margin_px);
+    }
+    R_ = R0_ = in.T_tanker_receiver_predicted.linear();
+    p_ = p0_ = in.T_tanker_receiver_predicted.translation();
+    prior_ = PriorInformation(o_, in.prediction_covariance);
+    // The profile reaches past every stage's line and shift.
+    for (const double scale : o_.scales) {
+      const LineShape shape(o_, scale);
+      profile_half_ = std::max(
+          profile_half_,
+          shape.pixels / 2 + 2 + static_cast<int>(std::ceil(0.5 * (shape.hypotheses - 1) * scale)));
+    }
+  }
+
+  Eigen::Isometry3d Pose() const {
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    T.linear() = Eigen::Quaterniond(R_).normalized().toRotationMatrix();
+    T.translation() = p_;
+    return T;
+  }
+
+  // The outline at the current pose in both views; false when there is none.
+  bool Outline() {
+    size_t points = 0;
+    for (int i = 0; i < 2; ++i) {
+      contours_[i] =
+          model_.Contour(*views_[i].camera, Pose(), o_.contour_points, profile_half_, o_.mask_size);
+      points += contours_[i].size();
+    }
+    return points > 0;
+  }
+
+  // SearchShift in the left view; the shift it applied [px].
+  Eigen::Vector2d Search() {
+    ShiftSearchOptions search;
+    search.radius_px = o_.search_radius_px;
+    search.template_size = o_.search_template_size;
+    const ShiftSearchResult shift =
+        SearchShift(model_, in_.left, views_[0].boom, in_.left_camera, Pose(), search);
+    if (!shift.valid) return Eigen::Vector2d::Zero();
+    p_ = shift.T_tanker_receiver.translation();
+    return shift.shift_px;
+  }
+
+  Pass Evaluate(double scale) const {
+    return aar_alignment::Evaluate(o_, views_, contours_, R_, p_, scale);
+  }
+
+  // One Gauss-Newton step of the MAP estimate (the lines and the prediction); the deviation from
+  // the prediction is in the error coordinates (position, left rotation vector).
+  bool Step(const Pass& pass) {
+    const Eigen::AngleAxisd turn(R_ * R0_.transpose());
+    Vector6d deviation;
+    deviation << p_ - p0_, turn.angle() * turn.axis();
+    const Vector6d step = (pass.H + prior_).ldlt().solve(pass.g - prior_ * deviation);
+    if (!step.allFinite()) return false;
+    p_ += step.head<3>();
+    R_ = Exp(step.tail<3>()) * R_;
+    return true;
+  }
+
+  // The result's figures from a pass at the current pose.
+  void Finish(const Pass& last, AlignmentResult& out) const {
+    out.lines = last.usable;
+    out.information = last.H / o_.covariance_scale;
+    out.covariance = (out.information + prior_).inverse();
+    out.covariance = 0.5 * (out.covariance + out.covariance.transpose()).eval();
+    out.T_tanker_receiver = Pose();
+    out.quality = last.usable > 0 ? last.fit / last.usable : 0.0;
+    out.inlier_share = last.usable > 0 ? static_cast<double>(last.inliers) / last.usable : 0.0;
+  }
+
+ private:
+  const AlignmentOptions& o_;
+  const OutlineModel& model_;
+  const AlignmentInput& in_;
+  std::vector<View> views_;
+  Eigen::Matrix3d R_, R0_;
+  Eigen::Vector3d p_, p0_;
+  Matrix6d prior_;
+  int profile_half_ = 0;
+  std::vector<std::vector<ContourPoint>> contours_{2};
+};
+
+namespace {
+
+std::string TooFewLines(int usable, int min_lines, const std::string& where) {
+  return "only " + std::to_string(usable) + " usable outline lines " + where + " (min_lines " +
+         std::to_string(min_lines) + ")";
+}
+
+double MsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+      .count();
+}
+
+constexpr const char* kNoOutline =
+    "the receiver at the pose has no outline in either image (behind a camera?)";
+
+}  // namespace
+
+AlignmentResult OutlineAligner::Align(const AlignmentInput& in) const {
+  const auto start = std::chrono::steady_clock::now();
+  AlignmentResult out;
+  out.error = CheckInput(in);
+  if (!out.error.empty()) return out;
+  Run run(*this, in);
+  if (options_.search_radius_px > 0.0) out.search_shift_px = run.Search();
+  for (const double scale : options_.scales) {
+    if (!run.Outline()) {
+      out.error = kNoOutline;
+      return out;
+    }
+    for (int it = 0; it < options_.iterations_per_scale; ++it, ++out.iterations) {
+      const Pass pass = run.Evaluate(scale);
+      if (pass.usable < options_.min_lines) {
+        out.error = TooFewLines(pass.usable, options_.min_lines,
+                                "at scale " + std::to_string(static_cast<int>(scale)) + " px");
+        return out;
+      }
+      if (!run.Step(pass)) {
+        out.error = "the Gauss-Newton step is not finite";
+        return out;
+      }
+    }
+  }
+  run.Outline();
+  const Pass last = run.Evaluate(options_.scales.back());
+  run.Finish(last, out);
+  out.valid = last.usable >= options_.min_lines && out.covariance.allFinite();
+  if (last.usable < options_.min_lines)
+    out.error = TooFewLines(last.usable, options_.min_lines, "at the result");
+  else if (!out.valid)
+    out.error = "the covariance is not finite";
+  out.time_ms = MsSince(start);
+  return out;
+}
+
+AlignmentResult OutlineAligner::Score(const AlignmentInput& in) const {
+  const auto start = std::chrono::steady_clock::now();
+  AlignmentResult out;
+  out.error = CheckInput(in);
+  if (!out.error.empty()) return out;
+  Run run(*this, in);
+  if (!run.Outline()) {
+    out.error = kNoOutline;
+    return out;
+  }
+  const Pass pass = run.Evaluate(options_.scales.back());
+  run.Finish(pass, out);
+  out.valid = pass.usable >= options_.min_lines;
+  if (!out.valid) out.error = TooFewLines(pass.usable, options_.min_lines, "at the pose");
+  out.time_ms = MsSince(start);
+  return out;
+}
+
+}  // namespace aar_alignment
