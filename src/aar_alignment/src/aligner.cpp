@@ -7,6 +7,7 @@
 #include <numeric>
 #include <stdexcept>
 
+#include <Eigen/Eigenvalues>
 #include <opencv2/imgproc.hpp>
 
 #include "aar_alignment/search.h"
@@ -128,8 +129,8 @@ void Sample(const View& v, const LineShape& shape, Line& line) {
   for (int i = 0; i < shape.pixels; ++i) {
     const Eigen::Vector2d p = line.center + shape.X(i) * line.normal;
     if (!(p.x() >= 0.0 && p.y() >= 0.0 && p.x() < w - 1 && p.y() < h - 1)) continue;
-    if (!v.boom.empty() && v.boom.at<uint8_t>(static_cast<int>(std::lround(p.y())),
-                                              static_cast<int>(std::lround(p.x()))))
+    if (!v.boom.empty() &&
+        v.boom.at<uint8_t>(static_cast<int>(p.y() + 0.5), static_cast<int>(p.x() + 0.5)))
       continue;
     line.grey[i] = Bilinear(*v.image, p.x(), p.y());
   }
@@ -207,19 +208,24 @@ std::vector<double> RegionLikelihood(const LineShape& shape, const Line& l) {
 // hypothesis is judged on all the line's pixels, so that a uniform stretch cannot win by itself.
 std::vector<double> ContrastLikelihood(const LineShape& shape, const Line& l) {
   constexpr double kNoiseFloor = 4.0;  // [grey^2] per pixel: uniform sky is not infinitely sure
+  const int half = static_cast<int>(l.expected.size() / 2);
+  std::vector<float> receiver(l.expected.size());
+  for (size_t k = 0; k < receiver.size(); ++k) receiver[k] = l.expected[k] > 0.5f;
+  double all = 0.0, all_square = 0.0;
+  for (const float g : l.grey) all += g, all_square += g * g;
   std::vector<double> logp(shape.hypotheses, 0.0);
   const double n = shape.pixels;
   for (int j = 0; j < shape.hypotheses; ++j) {
-    const double d = shape.D(j);
-    double count[2] = {0, 0}, sum[2] = {0, 0}, square[2] = {0, 0};
+    // Pixel i lies at x = i - pixels / 2 + 1/2: its profile index for the outline at D(j).
+    const int shift = half - shape.pixels / 2 - static_cast<int>(std::lround(shape.D(j)));
+    double count = 0.0, sum = 0.0, square = 0.0;  // of the receiver's class
     for (int i = 0; i < shape.pixels; ++i) {
-      const int c = Expected(l, shape.X(i) - d) > 0.5;
-      const double g = l.grey[i];
-      count[c] += 1.0, sum[c] += g, square[c] += g * g;
+      const float c = receiver[std::clamp(i + shift, 0, 2 * half - 1)], g = l.grey[i];
+      count += c, sum += c * g, square += c * g * g;
     }
     double sse = 0.0;
-    for (int c = 0; c < 2; ++c)
-      if (count[c] > 0.0) sse += square[c] - sum[c] * sum[c] / count[c];
+    if (count > 0.0) sse += square - sum * sum / count;
+    if (n - count > 0.0) sse += (all_square - square) - (all - sum) * (all - sum) / (n - count);
     logp[j] = -0.5 * n * std::log(sse / n + kNoiseFloor);
   }
   return logp;
@@ -417,6 +423,7 @@ class OutlineAligner::Run {
     R_ = R0_ = in.T_tanker_receiver_predicted.linear();
     p_ = p0_ = in.T_tanker_receiver_predicted.translation();
     prior_ = PriorInformation(o_, in.prediction_covariance);
+    for (const Eigen::Vector3d& v : model_.mesh().vertices) radius_ = std::max(radius_, v.norm());
     // The profile reaches past every stage's line and shift.
     for (const double scale : o_.scales) {
       const LineShape shape(o_, scale);
@@ -444,16 +451,51 @@ class OutlineAligner::Run {
     return points > 0;
   }
 
-  // SearchShift in the left view; the shift it applied [px].
+  // [px] the prediction's standard deviation in the left image: across the line of sight, and
+  // of the receiver's extremities (its mesh's radius) turned by the rotation's.
+  double UncertaintyPx() const {
+    const Eigen::Vector3d y = views_[0].T_optical_tanker * p_;
+    const Eigen::Matrix3d R_ot = views_[0].T_optical_tanker.linear();
+    const Matrix6d covariance = prior_.inverse();
+    const Eigen::Matrix3d position = R_ot * covariance.topLeftCorner<3, 3>() * R_ot.transpose();
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> across(position.topLeftCorner<2, 2>());
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> turn(covariance.bottomRightCorner<3, 3>());
+    const double metres = std::sqrt(std::max(0.0, across.eigenvalues().maxCoeff())) +
+                          std::sqrt(std::max(0.0, turn.eigenvalues().maxCoeff())) * radius_;
+    return metres * in_.left_camera.fx / std::max(1.0, y.z());
+  }
+
+  // [px] how far the lines of a stage look for the outline each way.
+  double Reach(double scale) const {
+    const LineShape shape(o_, scale);
+    return 0.5 * (shape.hypotheses - 1) * shape.spacing;
+  }
+
+  // SearchShift in the left view over three standard deviations of the prediction (at most
+  // search_radius_px); skipped when the first stage's lines reach that far. The shift applied.
   Eigen::Vector2d Search() {
     ShiftSearchOptions search;
-    search.radius_px = o_.search_radius_px;
+    search.radius_px = std::min(o_.search_radius_px, 3.0 * UncertaintyPx());
+    if (search.radius_px <= Reach(o_.scales.front())) return Eigen::Vector2d::Zero();
     search.template_size = o_.search_template_size;
     const ShiftSearchResult shift =
         SearchShift(model_, in_.left, views_[0].boom, in_.left_camera, Pose(), search);
     if (!shift.valid) return Eigen::Vector2d::Zero();
+    // Kept only when the outline fits better there than at the prediction (the search sees one
+    // view at a coarse scale, and clutter such as the boom's edges can win it).
+    const double before = Fit();
+    const Eigen::Vector3d unshifted = p_;
     p_ = shift.T_tanker_receiver.translation();
-    return shift.shift_px;
+    if (Fit() > before) return shift.shift_px;
+    p_ = unshifted;
+    return Eigen::Vector2d::Zero();
+  }
+
+  // The mean fit of the outline at the current pose (finest scale).
+  double Fit() {
+    if (!Outline()) return 0.0;
+    const Pass pass = Evaluate(o_.scales.back());
+    return pass.usable > 0 ? pass.fit / pass.usable : 0.0;
   }
 
   Pass Evaluate(double scale) const {
@@ -493,6 +535,7 @@ class OutlineAligner::Run {
   Eigen::Vector3d p_, p0_;
   Matrix6d prior_;
   int profile_half_ = 0;
+  double radius_ = 0.0;  // [m] of the mesh about the receiver's origin
   std::vector<std::vector<ContourPoint>> contours_{2};
 };
 
@@ -520,7 +563,15 @@ AlignmentResult OutlineAligner::Align(const AlignmentInput& in) const {
   if (!out.error.empty()) return out;
   Run run(*this, in);
   if (options_.search_radius_px > 0.0) out.search_shift_px = run.Search();
-  for (const double scale : options_.scales) {
+  // Without a search, coarse stages whose next one already reaches three standard deviations of
+  // the prediction are skipped (a tracked receiver near contact needs only the fine ones).
+  size_t first = 0;
+  const double sigma_px = run.UncertaintyPx();
+  while (out.search_shift_px.isZero() && first + 1 < options_.scales.size() &&
+         run.Reach(options_.scales[first + 1]) >= 3.0 * sigma_px)
+    ++first;
+  for (size_t stage = first; stage < options_.scales.size(); ++stage) {
+    const double scale = options_.scales[stage];
     if (!run.Outline()) {
       out.error = kNoOutline;
       return out;

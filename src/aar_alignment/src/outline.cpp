@@ -12,17 +12,46 @@ namespace aar_alignment {
 namespace {
 
 constexpr double kMinDepth = 0.1;  // [m] vertices nearer the camera's plane: no outline
-constexpr int kShift = 3;          // fixed-point bits of the mask's polygon corners
 constexpr double kMaxMaskScale = 4.0;
 constexpr int kOversample = 3;  // edge samples per wanted outline point (most are inside)
 
 using Mask = SilhouetteMask;
 
-Mask DrawMask(const aar_geometry::TriangleMesh& mesh, const std::vector<Eigen::Vector2d>& pixels,
-              const PinholeCamera& camera, int mask_size, double max_scale) {
+// Sets the mask pixels whose centres (integer coordinates) lie in the triangle a, b, c [mask px]:
+// exact coverage, unlike a rasteriser that also draws the edges.
+void FillTriangle(cv::Mat& mask, Eigen::Vector2d a, Eigen::Vector2d b, Eigen::Vector2d c) {
+  const double area = (b - a).x() * (c - a).y() - (b - a).y() * (c - a).x();
+  if (area == 0.0) return;
+  if (area < 0.0) std::swap(b, c);
+  const int x0 = std::max(0, static_cast<int>(std::ceil(std::min({a.x(), b.x(), c.x()}))));
+  const int x1 =
+      std::min(mask.cols - 1, static_cast<int>(std::floor(std::max({a.x(), b.x(), c.x()}))));
+  const int y0 = std::max(0, static_cast<int>(std::ceil(std::min({a.y(), b.y(), c.y()}))));
+  const int y1 =
+      std::min(mask.rows - 1, static_cast<int>(std::floor(std::max({a.y(), b.y(), c.y()}))));
+  // Edge functions e(p) = (q - p0) x (p1 - p0) >= 0 inside, stepped along the row.
+  const Eigen::Vector2d v[3] = {a, b, c};
+  for (int y = y0; y <= y1; ++y) {
+    uint8_t* row = mask.ptr<uint8_t>(y);
+    for (int x = x0; x <= x1; ++x) {
+      bool inside = true;
+      for (int k = 0; k < 3 && inside; ++k) {
+        const Eigen::Vector2d& p0 = v[k];
+        const Eigen::Vector2d& p1 = v[(k + 1) % 3];
+        inside = (p1.x() - p0.x()) * (y - p0.y()) - (p1.y() - p0.y()) * (x - p0.x()) >= 0.0;
+      }
+      if (inside) row[x] = 1;
+    }
+  }
+}
+
+// The triangles facing the camera (their union is the receiver's image) as a mask about
+// `mask_size` px across, of the part within 64 px of the image.
+Mask DrawMask(const aar_geometry::TriangleMesh& mesh, const std::vector<char>& front,
+              const std::vector<Eigen::Vector2d>& pixels, const PinholeCamera& camera,
+              int mask_size, double max_scale) {
   Eigen::AlignedBox2d box;
   for (const auto& u : pixels) box.extend(u);
-  // Only what the image and a margin around it show matters.
   const Eigen::Vector2d margin(64.0, 64.0);
   const Eigen::AlignedBox2d view(-margin, Eigen::Vector2d(camera.width, camera.height) + margin);
   box = box.intersection(view);
@@ -33,15 +62,12 @@ Mask DrawMask(const aar_geometry::TriangleMesh& mesh, const std::vector<Eigen::V
   mask.origin = box.min() - Eigen::Vector2d(2.0, 2.0) / mask.scale;
   mask.image = cv::Mat::zeros(static_cast<int>(std::ceil(size.y() * mask.scale)) + 5,
                               static_cast<int>(std::ceil(size.x() * mask.scale)) + 5, CV_8U);
-  const double fixed = mask.scale * (1 << kShift);
-  cv::Point corners[3];
-  for (const auto& t : mesh.triangles) {
-    for (int k = 0; k < 3; ++k) {
-      const Eigen::Vector2d m = (pixels[t[k]] - mask.origin) * fixed;
-      corners[k] =
-          cv::Point(static_cast<int>(std::lround(m.x())), static_cast<int>(std::lround(m.y())));
-    }
-    cv::fillConvexPoly(mask.image, corners, 3, cv::Scalar(1), cv::LINE_8, kShift);
+  for (size_t t = 0; t < mesh.triangles.size(); ++t) {
+    if (!front[t]) continue;
+    const Eigen::Vector3i& v = mesh.triangles[t];
+    FillTriangle(mask.image, (pixels[v[0]] - mask.origin) * mask.scale,
+                 (pixels[v[1]] - mask.origin) * mask.scale,
+                 (pixels[v[2]] - mask.origin) * mask.scale);
   }
   return mask;
 }
@@ -63,7 +89,8 @@ std::vector<uint8_t> Profile(const Mask& mask, const Eigen::Vector2d& pixel,
 bool SilhouetteMask::At(const Eigen::Vector2d& pixel) const {
   // OpenCV's polygons cover the pixels whose centres (integers) lie inside.
   const Eigen::Vector2d m = (pixel - origin) * scale;
-  const int x = static_cast<int>(std::lround(m.x())), y = static_cast<int>(std::lround(m.y()));
+  const int x = static_cast<int>(std::floor(m.x() + 0.5)),
+            y = static_cast<int>(std::floor(m.y() + 0.5));
   return x >= 0 && y >= 0 && x < image.cols && y < image.rows && image.at<uint8_t>(y, x) != 0;
 }
 
@@ -80,13 +107,22 @@ bool OutlineModel::Project(const PinholeCamera& camera, const Eigen::Isometry3d&
   return true;
 }
 
+std::vector<char> OutlineModel::Facing(const std::vector<Eigen::Vector3d>& y) const {
+  std::vector<char> front(mesh_.triangles.size());
+  for (size_t t = 0; t < front.size(); ++t) {
+    const Eigen::Vector3i& v = mesh_.triangles[t];
+    front[t] = (y[v[1]] - y[v[0]]).cross(y[v[2]] - y[v[0]]).dot(y[v[0]]) < 0.0;
+  }
+  return front;
+}
+
 SilhouetteMask OutlineModel::Silhouette(const PinholeCamera& camera,
                                         const Eigen::Isometry3d& T_tanker_receiver, int size,
                                         double max_scale) const {
   std::vector<Eigen::Vector3d> y;
   std::vector<Eigen::Vector2d> u;
   if (!Project(camera, T_tanker_receiver, y, u)) return {};
-  return DrawMask(mesh_, u, camera, size, max_scale);
+  return DrawMask(mesh_, Facing(y), u, camera, size, max_scale);
 }
 
 OutlineModel::OutlineModel(const aar_geometry::TriangleMesh& receiver) {
@@ -112,12 +148,8 @@ std::vector<ContourPoint> OutlineModel::Contour(const PinholeCamera& camera,
   std::vector<Eigen::Vector3d> y;
   std::vector<Eigen::Vector2d> u;
   if (!Project(camera, T_tanker_receiver, y, u)) return {};
-  std::vector<char> front(mesh_.triangles.size());
-  for (size_t t = 0; t < front.size(); ++t) {
-    const Eigen::Vector3i& v = mesh_.triangles[t];
-    front[t] = (y[v[1]] - y[v[0]]).cross(y[v[2]] - y[v[0]]).dot(y[v[0]]) < 0.0;
-  }
-  const Mask mask = DrawMask(mesh_, u, camera, mask_size, kMaxMaskScale);
+  const std::vector<char> front = Facing(y);
+  const Mask mask = DrawMask(mesh_, front, u, camera, mask_size, kMaxMaskScale);
   if (mask.image.empty() || count <= 0) return {};
 
   std::vector<const MeshEdge*> silhouette;

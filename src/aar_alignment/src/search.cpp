@@ -66,13 +66,14 @@ ShiftSearchResult SearchShift(const OutlineModel& model, const cv::Mat& image, c
                 q_in = correlate(wii, silhouette), n_all = correlate(weight, box),
                 s_all = correlate(wi, box), q_all = correlate(wii, box);
   constexpr double kNoiseFloor = 4.0;  // [grey^2] a uniform window explains nothing
+  const double template_pixels = cv::sum(silhouette)[0];
   cv::Mat score(n_in.size(), CV_32F);
   for (int y = 0; y < score.rows; ++y) {
     for (int x = 0; x < score.cols; ++x) {
       const double ni = n_in.at<float>(y, x), na = n_all.at<float>(y, x), no = na - ni;
       const double si = s_in.at<float>(y, x), sa = s_all.at<float>(y, x), so = sa - si;
       const double qi = q_in.at<float>(y, x), qa = q_all.at<float>(y, x), qo = qa - qi;
-      if (ni < 0.5 * cv::sum(silhouette)[0] || no < 1.0) {
+      if (ni < 0.5 * template_pixels || no < 1.0) {
         score.at<float>(y, x) = 0.0f;  // mostly hidden by the boom
         continue;
       }

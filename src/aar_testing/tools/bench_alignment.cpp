@@ -70,6 +70,11 @@ int main(int argc, char** argv) {
     in.left_camera = aar_testing::LeftCamera(sim.rig());
     in.right_camera = aar_testing::RightCamera(sim.rig());
     in.boom_parts_in_tanker = aar_testing::BoomPartsInTanker(boom, f.T_tanker_links);
+    // The prediction's covariance as a tracker would give it: the start's error per axis.
+    aar_alignment::Vector6d sigma;
+    sigma << Eigen::Vector3d::Constant(std::max(0.05, position_error)),
+        Eigen::Vector3d::Constant(std::max(0.005, attitude_error));
+    in.prediction_covariance = sigma.cwiseAbs2().asDiagonal();
     if (const char* dump = std::getenv("AAR_ALIGN_DUMP")) {  // the outline at the truth, drawn
       cv::Mat colour;
       cv::cvtColor(in.left, colour, cv::COLOR_GRAY2BGR);

@@ -38,7 +38,8 @@ struct AlignmentOptions {
   std::vector<double> scales = {4.0, 2.0, 1.0};
   int iterations_per_scale = 2;
   // First, the coarse search (SearchShift): the predicted silhouette slid over the left image by
-  // up to this many pixels each way; 0: off.
+  // three standard deviations of the prediction across the line of sight, at most this many
+  // pixels each way; skipped when the first stage's lines reach that far. 0: off.
   double search_radius_px = 48.0;
   int search_template_size = 64;  // [px]
   int line_samples = 16;          // per line, half inside the predicted outline, half outside

@@ -77,6 +77,9 @@ class OutlineModel {
   bool Project(const PinholeCamera& camera, const Eigen::Isometry3d& T_tanker_receiver,
                std::vector<Eigen::Vector3d>& optical, std::vector<Eigen::Vector2d>& pixels) const;
 
+  // Per triangle, whether it faces the camera (vertices in the optical frame).
+  std::vector<char> Facing(const std::vector<Eigen::Vector3d>& optical) const;
+
   struct MeshEdge {
     int v0, v1;  // vertex indices
     int t0, t1;  // the triangles on either side; t1 = -1 for an open edge
