@@ -9,8 +9,25 @@
 
 namespace aar_registration {
 
+void OutlineOptions::Validate() const {
+  auto fail = [](const std::string& what) { throw std::invalid_argument("outline: " + what); };
+  alignment.Validate();
+  if (!(min_quality >= 0.0 && min_quality <= 1.0)) fail("min_quality must lie in [0, 1]");
+  if (!(maneuver_quality >= 0.0 && maneuver_quality <= 1.0))
+    fail("maneuver_quality must lie in [0, 1]");
+  if (max_poor_frames < 1) fail("max_poor_frames must be at least 1");
+  if (!(start_sigma_position > 0.0) || !(start_sigma_rotation > 0.0))
+    fail("start_sigma_position and start_sigma_rotation must be > 0");
+  if (!(disparity_sigma >= 0.0)) fail("disparity_sigma must be >= 0");
+  if (!(information_floor_position > 0.0) || !(information_floor_rotation > 0.0))
+    fail("information_floor_position and information_floor_rotation must be > 0");
+}
+
 Registrar::Registrar(const RegistrarOptions& options)
     : options_(options), icp_(options.icp), tracker_(options.tracker) {
+  if (options.outline.enabled && !options.track)
+    throw std::invalid_argument("the outline (outline.enabled) needs tracking (track: true)");
+  options.outline.Validate();
   if (options.seed == SeedMode::kPrediction && !options.track)
     throw std::invalid_argument("the prediction seed needs tracking (track: true)");
   if (options.max_sensed_points != 0 && options.max_sensed_points < options.icp.min_correspondences)
@@ -57,6 +74,10 @@ void Registrar::SetReference(std::vector<Eigen::Vector3d> points,
   reference_points_ = std::move(points);
 }
 
+void Registrar::SetOutlineModel(const aar_geometry::TriangleMesh& receiver) {
+  aligner_ = std::make_unique<aar_alignment::OutlineAligner>(receiver, options_.outline.alignment);
+}
+
 TrackPrediction Registrar::Predict(double stamp_s) const {
   return options_.track ? tracker_.Predict(stamp_s) : TrackPrediction{};
 }
@@ -89,8 +110,8 @@ Matrix6d CovarianceInTanker(const Matrix6d& icp_covariance,
   return J * icp_covariance * J.transpose();
 }
 
-RegistrarResult Registrar::Register(const std::vector<Eigen::Vector3d>& all_sensed,
-                                    double stamp_s) {
+RegistrarResult Registrar::Register(const std::vector<Eigen::Vector3d>& all_sensed, double stamp_s,
+                                    const OutlineFrame* outline) {
   const auto start = std::chrono::steady_clock::now();
   RegistrarResult out;
   out.tracking = options_.track;
@@ -147,21 +168,7 @@ RegistrarResult Registrar::Register(const std::vector<Eigen::Vector3d>& all_sens
     out.T_tanker_receiver = out.T_tanker_receiver_registered;
     out.covariance = CovarianceInTanker(out.icp.covariance, out.T_tanker_receiver);
   } else {
-    std::ostringstream gate;
-    if (out.registered && out.icp.fitness < options_.gate.min_fitness)
-      gate << "fitness " << out.icp.fitness << " < " << options_.gate.min_fitness;
-    else if (out.registered && out.icp.rms > options_.gate.max_rms)
-      gate << "RMS " << out.icp.rms << " m > " << options_.gate.max_rms << " m";
-    else if (out.registered && out.icp.degenerate)
-      gate << "the reference leaves a motion unconstrained";
-    if (!out.registered)
-      out.track = tracker_.Reject(stamp_s, out.error);
-    else if (!gate.str().empty())
-      out.track = tracker_.Reject(stamp_s, "registration rejected: " + gate.str());
-    else
-      out.track =
-          tracker_.Update(stamp_s, out.T_tanker_receiver_registered,
-                          CovarianceInTanker(out.icp.covariance, out.T_tanker_receiver_registered));
+    Track(stamp_s, outline, out);
     const TrackPrediction& filtered = out.track.filtered;
     out.valid = filtered.valid;
     out.T_tanker_receiver = filtered.T_tanker_receiver;
@@ -173,6 +180,146 @@ RegistrarResult Registrar::Register(const std::vector<Eigen::Vector3d>& all_sens
   out.registration_ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   return out;
+}
+
+namespace {
+
+std::string Quality(const aar_alignment::AlignmentResult& a) {
+  if (!a.valid) return "no alignment (" + a.error + ")";
+  std::ostringstream s;
+  s << "outline fit " << a.quality;
+  return s.str();
+}
+
+// The alignment as a pose measurement: its information (what the images alone say), with a floor
+// so that directions the outline does not see get no weight.
+Matrix6d MeasurementCovariance(const aar_alignment::AlignmentResult& a, const OutlineOptions& o) {
+  Matrix6d information = a.information;
+  information.diagonal().head<3>().array() += o.information_floor_position;
+  information.diagonal().tail<3>().array() += o.information_floor_rotation;
+  return information.inverse();
+}
+
+}  // namespace
+
+Matrix6d Registrar::StartCovariance() const {
+  Vector6d sigma;
+  sigma << Eigen::Vector3d::Constant(options_.outline.start_sigma_position),
+      Eigen::Vector3d::Constant(options_.outline.start_sigma_rotation);
+  return sigma.cwiseAbs2().asDiagonal();
+}
+
+Matrix6d Registrar::IcpCovariance(const RegistrarResult& out, const OutlineFrame* frame) const {
+  Matrix6d covariance = CovarianceInTanker(out.icp.covariance, out.T_tanker_receiver_registered);
+  const double sigma_d = options_.outline.disparity_sigma;
+  if (!frame || !(sigma_d > 0.0)) return covariance;
+  const aar_alignment::PinholeCamera& left = frame->left_camera;
+  const double baseline =
+      (frame->right_camera.T_tanker_optical.translation() - left.T_tanker_optical.translation())
+          .norm();
+  const Eigen::Vector3d ray =
+      out.T_tanker_receiver_registered.translation() - left.T_tanker_optical.translation();
+  const double z = ray.norm();
+  if (!(baseline > 0.0) || !(z > 0.0)) return covariance;
+  const double sigma_z = z * z * sigma_d / (left.fx * baseline);  // [m] of one point
+  const double independent = std::max(
+      1.0, std::min<double>(out.icp.correspondences, options_.icp.independent_correspondences));
+  const Eigen::Vector3d u = ray / z;
+  covariance.topLeftCorner<3, 3>() += u * u.transpose() * sigma_z * sigma_z / independent;
+  return covariance;
+}
+
+aar_alignment::AlignmentResult Registrar::AlignOutline(const OutlineFrame& frame,
+                                                       const Eigen::Isometry3d& T,
+                                                       const Matrix6d& covariance,
+                                                       RegistrarResult& out) const {
+  aar_alignment::AlignmentInput in;
+  in.left = frame.left, in.right = frame.right;
+  in.left_camera = frame.left_camera, in.right_camera = frame.right_camera;
+  in.boom_parts_in_tanker = frame.boom_parts_in_tanker;
+  in.T_tanker_receiver_predicted = T;
+  in.prediction_covariance = covariance;
+  out.outline = aligner_->Align(in);
+  out.outline_ran = true;
+  return out.outline;
+}
+
+void Registrar::Track(double stamp_s, const OutlineFrame* frame, RegistrarResult& out) {
+  std::ostringstream gate;
+  if (out.registered && out.icp.fitness < options_.gate.min_fitness)
+    gate << "fitness " << out.icp.fitness << " < " << options_.gate.min_fitness;
+  else if (out.registered && out.icp.rms > options_.gate.max_rms)
+    gate << "RMS " << out.icp.rms << " m > " << options_.gate.max_rms << " m";
+  else if (out.registered && out.icp.degenerate)
+    gate << "the reference leaves a motion unconstrained";
+  const bool outline = options_.outline.enabled && aligner_ && frame;
+  const OutlineOptions& o = options_.outline;
+  const bool acquiring = tracker_.state() != TrackState::kTracking;
+  if (!out.registered) {
+    out.track = tracker_.Reject(stamp_s, out.error);
+  } else if (!gate.str().empty()) {
+    out.track = tracker_.Reject(stamp_s, "registration rejected: " + gate.str());
+  } else if (outline && acquiring) {
+    // A start must fit the images: the outline aligned from ICP's pose.
+    const auto a = AlignOutline(*frame, out.T_tanker_receiver_registered, StartCovariance(), out);
+    if (a.valid && a.quality >= o.min_quality) {
+      out.track = tracker_.Update(stamp_s, a.T_tanker_receiver, a.covariance);
+      out.outline_fused = true;
+    } else {
+      out.outline_note = "start refused: " + Quality(a);
+      out.track = tracker_.Reject(stamp_s, out.outline_note);
+    }
+    return;
+  } else {
+    out.track =
+        tracker_.Update(stamp_s, out.T_tanker_receiver_registered, IcpCovariance(out, frame));
+  }
+  if (!outline || tracker_.state() != TrackState::kTracking) return;
+  const bool icp_rejected = out.registered && out.track.outcome == TrackOutcome::kRejected;
+  // The outline from the track (after ICP's update or coast), fused with its own covariance.
+  const TrackPrediction now = tracker_.Predict(stamp_s);
+  if (!now.valid) return;
+  const auto a = AlignOutline(*frame, now.T_tanker_receiver, now.covariance, out);
+  if (a.valid && a.quality >= o.min_quality) {
+    const TrackUpdate u =
+        tracker_.Update(stamp_s, a.T_tanker_receiver, MeasurementCovariance(a, o));
+    out.outline_fused = u.outcome == TrackOutcome::kAccepted;
+    if (out.outline_fused) {
+      poor_outline_frames_ = 0;
+      out.track.filtered = u.filtered;
+      if (out.track.outcome != TrackOutcome::kStarted) out.track.outcome = u.outcome;
+      return;
+    }
+    out.outline_note = "outline not fused: " + u.reason;
+  } else {
+    out.outline_note = "outline not fused: " + Quality(a);
+  }
+  if (icp_rejected) {
+    // The outline does not fit at the track, but the registration the gate rejected may be
+    // right: aligned from it, an outline that fits means the receiver maneuvered; the track
+    // follows it instead of coasting away.
+    const auto m = AlignOutline(*frame, out.T_tanker_receiver_registered, StartCovariance(), out);
+    if (m.valid && m.quality >= o.maneuver_quality) {
+      tracker_.Maneuver(o.start_sigma_position, o.start_sigma_rotation);
+      const TrackUpdate u = tracker_.Update(stamp_s, m.T_tanker_receiver, m.covariance);
+      out.outline_fused = u.outcome == TrackOutcome::kAccepted;
+      out.outline_note = "maneuver: the registration's outline fits (" + Quality(m) + ")";
+      if (out.outline_fused) {
+        poor_outline_frames_ = 0;
+        out.track.filtered = u.filtered;
+        out.track.outcome = u.outcome;
+        return;
+      }
+    }
+  }
+  if (++poor_outline_frames_ >= o.max_poor_frames) {
+    std::ostringstream s;
+    s << "integrity: the outline has not fitted for " << poor_outline_frames_
+      << " frames in a row (" << Quality(a) << ")";
+    poor_outline_frames_ = 0;
+    out.outline_note = s.str();
+    out.track = tracker_.Drop(s.str());
+  }
 }
 
 }  // namespace aar_registration

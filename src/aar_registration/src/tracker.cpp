@@ -54,6 +54,21 @@ void Tracker::Reset() {
   P_.setZero();
 }
 
+TrackUpdate Tracker::Drop(const std::string& reason) { return Lose(TrackOutcome::kLost, reason); }
+
+void Tracker::Maneuver(double position_sigma, double rotation_sigma) {
+  if (state_ != TrackState::kTracking) return;
+  P_.block<3, 3>(0, 0).diagonal().array() += position_sigma * position_sigma;
+  P_.block<3, 3>(3, 3).diagonal().array() += rotation_sigma * rotation_sigma;
+  P_.block<6, 6>(6, 0).setZero();
+  P_.block<6, 6>(0, 6).setZero();
+  P_.block<6, 6>(6, 6).setZero();
+  P_.block<3, 3>(6, 6).diagonal().setConstant(options_.initial_velocity_sigma *
+                                              options_.initial_velocity_sigma);
+  P_.block<3, 3>(9, 9).diagonal().setConstant(options_.initial_angular_velocity_sigma *
+                                              options_.initial_angular_velocity_sigma);
+}
+
 void Tracker::Propagate(double stamp_s, Eigen::Vector3d& p, Eigen::Matrix3d& R,
                         Matrix12d& P) const {
   const double dt = stamp_s - stamp_s_;

@@ -25,21 +25,6 @@ aar_alignment::PinholeCamera RightCamera(const aar_sim::StereoRig& rig) {
   return Camera(rig, rig.T_tanker_right_optical());
 }
 
-std::vector<std::vector<Eigen::Vector3d>> BoomPartsInTanker(
-    const std::vector<aar_occlusion::BoomPart>& parts,
-    const std::map<std::string, Eigen::Isometry3d>& T_tanker_links) {
-  std::vector<std::vector<Eigen::Vector3d>> out;
-  for (const aar_occlusion::BoomPart& part : parts) {
-    const auto link = T_tanker_links.find(part.link);
-    if (link == T_tanker_links.end()) continue;
-    const Eigen::Isometry3d T = link->second * part.T_link_part;
-    std::vector<Eigen::Vector3d> vertices;
-    for (const auto& v : part.mesh.vertices) vertices.push_back(T * v);
-    out.push_back(std::move(vertices));
-  }
-  return out;
-}
-
 aar_sim::WorldOptions RealisticWorld() {
   aar_sim::WorldOptions w = SimStereo::DefaultWorld();
   w.renderer.scene.background = aar_sim::Background::kTerrain;

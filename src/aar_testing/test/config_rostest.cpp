@@ -48,8 +48,17 @@ TEST(Config, EveryExperimentLoadsIntoEveryNode) {
         EXPECT_TRUE(occlusion.step.boom.cull_behind_boom);
         EXPECT_EQ(registration.registrar.reference, aar_registration::ReferenceKind::kWingsNose);
       }
-      const bool ours = name == "tracking" || name == "tracking_robust";
-      if (name == "tracking_robust") {  // tracking, with a robust seed and the propellers culled
+      const bool ours =
+          name == "tracking" || name == "tracking_robust" || name == "tracking_outline";
+      const bool robust = name == "tracking_robust" || name == "tracking_outline";
+      // tracking_outline: tracking_robust and the outline; nothing else has the outline.
+      EXPECT_EQ(registration.registrar.outline.enabled, name == "tracking_outline") << name;
+      if (name == "tracking_outline") {
+        EXPECT_EQ(registration.registrar.outline.disparity_sigma, 0.25);
+      } else {
+        EXPECT_EQ(registration.registrar.outline.disparity_sigma, 0.0) << name;
+      }
+      if (robust) {  // tracking, with a robust seed and the propellers culled
         EXPECT_EQ(registration.registrar.seed_points, aar_registration::SeedPoints::kDensestBall);
         EXPECT_TRUE(occlusion.step.seed_densest_ball);
         EXPECT_TRUE(occlusion.step.cull_propellers);
@@ -99,7 +108,8 @@ TEST(Config, EveryExperimentLoadsIntoEveryNode) {
       ADD_FAILURE() << "experiment " << name << ": " << e.what();
     }
   }
-  EXPECT_EQ(experiments, 8);  // the thesis's four, tracking, tracking_robust, the two ablations
+  // The thesis's four, tracking, tracking_robust, tracking_outline, the two ablations.
+  EXPECT_EQ(experiments, 9);
 }
 
 // Every camera mount in config/mounts/ loads into the simulator over config/sim.yaml and moves

@@ -8,6 +8,7 @@
 #include <string>
 
 #include <aar_alignment/aligner.h>
+#include <aar_alignment/boom_parts.h>
 #include <aar_description/boom_model.h>
 #include <aar_geometry/pose.h>
 #include <aar_geometry/pose_error.h>
@@ -69,7 +70,7 @@ int main(int argc, char** argv) {
     in.right = sim.Right(f);
     in.left_camera = aar_testing::LeftCamera(sim.rig());
     in.right_camera = aar_testing::RightCamera(sim.rig());
-    in.boom_parts_in_tanker = aar_testing::BoomPartsInTanker(boom, f.T_tanker_links);
+    in.boom_parts_in_tanker = aar_alignment::BoomPartsInTanker(boom, f.T_tanker_links);
     // The prediction's covariance as a tracker would give it: the start's error per axis.
     aar_alignment::Vector6d sigma;
     sigma << Eigen::Vector3d::Constant(std::max(0.05, position_error)),

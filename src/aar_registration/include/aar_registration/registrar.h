@@ -5,6 +5,9 @@
 #include <utility>
 #include <vector>
 
+#include <memory>
+
+#include <aar_alignment/aligner.h>
 #include <aar_geometry/receiver_reference.h>
 #include <aar_geometry/triangle_mesh.h>
 #include <Eigen/Geometry>
@@ -32,6 +35,46 @@ struct RegistrationGate {
   double max_rms = 0.7;      // [m] of the matched pairs
 };
 
+// The receiver's outline in both images as a second measurement of the tracker (issue 27; not in
+// the thesis): aligned from the prediction each frame and fused beside ICP with its own
+// covariance, so that the weights follow range; a start must fit the images, a track whose
+// outline stops fitting is dropped, and a registration the gate rejects but whose outline fits is
+// a maneuver. Needs tracking and the frame's images (Registrar::Register's `outline`).
+struct OutlineOptions {
+  bool enabled = false;
+  aar_alignment::AlignmentOptions alignment;
+  // An alignment whose fit (AlignmentResult::quality) is below this is not fused; a start below
+  // it is refused.
+  double min_quality = 0.5;
+  // This many frames in a row without a fitting outline while tracking: the track is dropped
+  // (an integrity loss) and acquired again.
+  int max_poor_frames = 5;
+  // The prior of an alignment from an ICP pose (a start, or a maneuver's registration).
+  double start_sigma_position = 2.0;   // [m]
+  double start_sigma_rotation = 0.05;  // [rad]
+  // A registration the tracker's gate rejects whose outline, aligned from it, fits at least this
+  // well: the receiver maneuvered; the track follows it (velocity uncertainty reset).
+  double maneuver_quality = 0.7;
+  // Stereo's range noise in ICP's covariance: sigma_Z = Z^2 sigma_d / (f b) of each point, along
+  // the left camera's ray to the receiver, over the independent correspondences (IcpOptions).
+  // [px]; 0: off (ICP's covariance from its residuals only).
+  double disparity_sigma = 0.0;
+  // [1/m^2, 1/rad^2] added to the alignment's information before it is inverted into a
+  // measurement covariance: directions the outline does not see get no weight.
+  double information_floor_position = 1e-4;
+  double information_floor_rotation = 1e-2;
+
+  void Validate() const;  // throws std::invalid_argument naming the field
+};
+
+// One frame's images for the outline: rectified mono8 pair, their cameras in the tanker frame,
+// the boom's convex parts (vertices in the tanker frame) to mask out.
+struct OutlineFrame {
+  cv::Mat left, right;
+  aar_alignment::PinholeCamera left_camera, right_camera;
+  std::vector<std::vector<Eigen::Vector3d>> boom_parts_in_tanker;
+};
+
 struct RegistrarOptions {
   ReferenceKind reference = ReferenceKind::kShelled;
   aar_geometry::ReferenceModelOptions sampling;
@@ -57,6 +100,7 @@ struct RegistrarOptions {
   bool track = false;
   TrackerOptions tracker;
   RegistrationGate gate;
+  OutlineOptions outline;
 };
 
 struct RegistrarResult {
@@ -80,6 +124,13 @@ struct RegistrarResult {
   size_t cut_from_points = 0;           // the cloud's size when max_cloud_points cut it; else 0
   size_t reference_points = 0;
   double registration_ms = 0.0;  // [ms] seeding, subsampling, ICP and the filter
+  // The outline (options.outline): its last alignment this frame, whether it entered the filter,
+  // and what it decided (start refused, maneuver, integrity loss, not fused and why).
+  bool outline_ran = false;
+  aar_alignment::AlignmentResult outline;
+  bool outline_fused = false;
+  std::string outline_note;
+  double outline_ms = 0.0;  // [ms] of registration_ms
 };
 
 // ICP's covariance (RegistrationResult::covariance of T_receiver_tanker, receiver frame) as the
@@ -106,9 +157,16 @@ class Registrar {
   void SetReference(std::vector<Eigen::Vector3d> points, std::vector<Eigen::Vector3d> normals);
   bool has_reference() const { return icp_.has_target(); }
 
-  // Sensed points in the tanker frame at `stamp_s` [s]. Never throws: a frame without a pose
-  // comes back with valid = false and the reason.
-  RegistrarResult Register(const std::vector<Eigen::Vector3d>& sensed_in_tanker, double stamp_s);
+  // The receiver mesh for the outline (options.outline.enabled); throws std::invalid_argument
+  // for a bad mesh.
+  void SetOutlineModel(const aar_geometry::TriangleMesh& receiver);
+  bool has_outline_model() const { return aligner_ != nullptr; }
+
+  // Sensed points in the tanker frame at `stamp_s` [s], and the frame's images for the outline
+  // (null: none this frame). Never throws: a frame without a pose comes back with valid = false
+  // and the reason.
+  RegistrarResult Register(const std::vector<Eigen::Vector3d>& sensed_in_tanker, double stamp_s,
+                           const OutlineFrame* outline = nullptr);
 
   // The tracker's pose at `stamp_s` (invalid when not tracking or acquiring), for the stages
   // before registration (the occlusion stage's predicted pose, stereo's region of interest).
@@ -122,8 +180,20 @@ class Registrar {
   void Align(const std::vector<Eigen::Vector3d>& sensed, const Eigen::Isometry3d& seed,
              RegistrarResult& out) const;
 
+  // The tracking half of Register: ICP's pose (gated) and the outline into the tracker.
+  void Track(double stamp_s, const OutlineFrame* frame, RegistrarResult& out);
+  // The outline aligned from `T` with its covariance; fills out.outline*.
+  aar_alignment::AlignmentResult AlignOutline(const OutlineFrame& frame, const Eigen::Isometry3d& T,
+                                              const Matrix6d& covariance,
+                                              RegistrarResult& out) const;
+  Matrix6d StartCovariance() const;
+  // ICP's covariance in the tanker frame, with stereo's range noise when asked for.
+  Matrix6d IcpCovariance(const RegistrarResult& out, const OutlineFrame* frame) const;
+
   RegistrarOptions options_;
   Icp icp_;
+  std::unique_ptr<aar_alignment::OutlineAligner> aligner_;
+  int poor_outline_frames_ = 0;
   std::vector<Eigen::Vector3d> reference_points_;                 // receiver frame
   std::optional<std::pair<double, Eigen::Isometry3d>> previous_;  // stamp [s], T_tanker_receiver
   Tracker tracker_;

@@ -88,6 +88,12 @@ class Tracker {
 
   // Back to acquisition.
   void Reset();
+  // Back to acquisition with a reason (kLost): a check outside the filter found the track wrong.
+  TrackUpdate Drop(const std::string& reason);
+  // The receiver maneuvered: its velocities are uncertain again (the start's sigmas) and the
+  // pose's covariance grows by `position_sigma` [m] and `rotation_sigma` [rad] per axis, so that
+  // the next update may move the track far.
+  void Maneuver(double position_sigma, double rotation_sigma);
 
  private:
   using Matrix12d = Eigen::Matrix<double, 12, 12>;

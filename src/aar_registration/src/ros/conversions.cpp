@@ -51,6 +51,9 @@ aar_msgs::PoseEstimate ToPoseEstimate(const RegistrarResult& r, const std_msgs::
   estimate.track = static_cast<uint8_t>(r.tracking ? 1 + static_cast<int>(r.track.outcome)
                                                    : aar_msgs::PoseEstimate::TRACK_OFF);
   estimate.track_reason = r.tracking ? r.track.reason : "";
+  // The outline's decision (a start refused, a maneuver, an integrity loss, not fused) with it.
+  if (!r.outline_note.empty() && estimate.track_reason.find(r.outline_note) == std::string::npos)
+    estimate.track_reason += (estimate.track_reason.empty() ? "" : "; ") + r.outline_note;
   estimate.mahalanobis2 = r.track.mahalanobis2;
   estimate.registered = r.registered;
   estimate.registered_pose = tf2::toMsg(r.T_tanker_receiver_registered);

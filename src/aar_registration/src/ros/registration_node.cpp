@@ -34,6 +34,13 @@ RegistrationNode::RegistrationNode(ros::NodeHandle nh, ros::NodeHandle private_n
                           [this](const ros::WallTimerEvent&) { diagnostics_.force_update(); });
   pose_pub_ = nh_.advertise<geometry_msgs::PoseWithCovarianceStamped>("aar/receiver_pose", 10);
   estimate_pub_ = nh_.advertise<aar_msgs::PoseEstimate>("aar/pose_estimate", 10);
+  if (options_.registrar.outline.enabled) {
+    // A mesh that does not load ends the node: a configuration error.
+    registrar_.SetOutlineModel(aar_description::LoadReceiverMesh(options_.receiver));
+    outline_ = std::make_unique<OutlineInputs>(nh_, tf_buffer_, options_.frames.tanker,
+                                               options_.robot_description, options_.tf_timeout);
+    outline_pub_ = nh_.advertise<geometry_msgs::PoseWithCovarianceStamped>("aar/outline_pose", 10);
+  }
   PublishModels();
   if (options_.registrar.reference == ReferenceKind::kTopic) {
     // Each cloud is registered to the reference built for its own frame (same stamp).
@@ -211,7 +218,18 @@ void RegistrationNode::Register(const sensor_msgs::PointCloud2::ConstPtr& msg) {
     if (!T_tanker_cloud) throw std::runtime_error(error);
     std::vector<Eigen::Vector3d> sensed = aar_ros_common::FromCloud(*msg).points;
     for (auto& p : sensed) p = *T_tanker_cloud * p;
-    result = registrar_.Register(sensed, msg->header.stamp.toSec());
+    std::optional<OutlineFrame> outline;
+    if (outline_) {
+      std::string missing;
+      outline = outline_->Get(msg->header.stamp, &missing);
+      if (!outline) {
+        std::lock_guard<std::mutex> lock(report_mutex_);
+        ++outline_missing_;
+        last_outline_missing_ = missing;
+      }
+    }
+    result = registrar_.Register(sensed, msg->header.stamp.toSec(), outline ? &*outline : nullptr);
+    if (result.outline_ran) PublishOutline(result, msg->header);
     if (result.cut_from_points > 0) {
       ROS_WARN_STREAM_THROTTLE(5.0, "registration: a cloud of "
                                         << result.cut_from_points << " points at "
@@ -237,6 +255,24 @@ void RegistrationNode::Register(const sensor_msgs::PointCloud2::ConstPtr& msg) {
                                       << result.registration_ms << " ms"
                                       << (result.icp.converged ? "" : " (not converged)"));
   }
+}
+
+void RegistrationNode::PublishOutline(const RegistrarResult& result,
+                                      const std_msgs::Header& cloud_header) {
+  {
+    std::lock_guard<std::mutex> lock(report_mutex_);
+    ++outline_ran_;
+    outline_fused_ += result.outline_fused;
+    last_outline_quality_ = result.outline.quality;
+    if (!result.outline_note.empty()) last_outline_note_ = result.outline_note;
+  }
+  if (!result.outline.valid) return;
+  geometry_msgs::PoseWithCovarianceStamped pose;
+  pose.header.stamp = cloud_header.stamp;
+  pose.header.frame_id = options_.frames.tanker;
+  pose.pose.pose = tf2::toMsg(result.outline.T_tanker_receiver);
+  for (int i = 0; i < 36; ++i) pose.pose.covariance[i] = result.outline.covariance(i / 6, i % 6);
+  outline_pub_.publish(pose);
 }
 
 void RegistrationNode::Publish(const RegistrarResult& result, const ros::Time& stamp,
@@ -279,6 +315,18 @@ void RegistrationNode::Diagnose(diagnostic_updater::DiagnosticStatusWrapper& sta
   for (const auto& [outcome, count] : outcomes_)
     status.add(std::string("frames ") + ToString(outcome), count);
   if (!last_track_reason_.empty()) status.add("last track event", last_track_reason_);
+  if (outline_) {
+    status.add("outline: frames aligned", outline_ran_);
+    status.add("outline: frames fused", outline_fused_);
+    status.add("outline: frames without its inputs", outline_missing_);
+    status.add("outline: image pairs received", outline_->pairs_received());
+    status.add("outline: last fit", last_outline_quality_);
+    if (!last_outline_note_.empty()) status.add("outline: last event", last_outline_note_);
+    if (!last_outline_missing_.empty())
+      status.add("outline: last missing input", last_outline_missing_);
+    if (!outline_->boom_error().empty())
+      status.add("outline: boom not masked", outline_->boom_error());
+  }
   if (!last_error_.empty()) {
     status.summary(diagnostic_msgs::DiagnosticStatus::ERROR,
                    "last frame has no estimate: " + last_error_);

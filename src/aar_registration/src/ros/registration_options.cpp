@@ -76,6 +76,38 @@ RegistrationNodeOptions LoadRegistrationNodeOptions(aar_ros_common::ParamReader&
   t.gate_chi2 = params.Get("gate_chi2", t.gate_chi2);
   t.max_rejections = params.Get("max_rejections", t.max_rejections);
   t.max_coast_s = params.Get("max_coast", t.max_coast_s);
+  OutlineOptions& outline = r.outline;
+  outline.enabled = params.Get("outline", outline.enabled);
+  outline.min_quality = params.Get("outline_min_quality", outline.min_quality);
+  outline.max_poor_frames = params.Get("outline_max_poor_frames", outline.max_poor_frames);
+  outline.maneuver_quality = params.Get("outline_maneuver_quality", outline.maneuver_quality);
+  outline.start_sigma_position =
+      params.Get("outline_start_sigma_position", outline.start_sigma_position);
+  outline.start_sigma_rotation = aar_geometry::DegToRad(params.Get(
+      "outline_start_sigma_rotation_deg", aar_geometry::RadToDeg(outline.start_sigma_rotation)));
+  outline.disparity_sigma = params.Get("outline_disparity_sigma", outline.disparity_sigma);
+  aar_alignment::AlignmentOptions& a = outline.alignment;
+  a.contour_points = params.Get("outline_contour_points", a.contour_points);
+  a.line_model =
+      params.GetChoice<aar_alignment::LineModel>("outline_line_model", "contrast",
+                                                 {{"contrast", aar_alignment::LineModel::kContrast},
+                                                  {"region", aar_alignment::LineModel::kRegion}});
+  a.search_radius_px = params.Get("outline_search_radius", a.search_radius_px);
+  a.covariance_scale = params.Get("outline_covariance_scale", a.covariance_scale);
+  params.Check(outline.min_quality >= 0.0 && outline.min_quality <= 1.0, "outline_min_quality",
+               "must lie in [0, 1]");
+  params.Check(outline.maneuver_quality >= 0.0 && outline.maneuver_quality <= 1.0,
+               "outline_maneuver_quality", "must lie in [0, 1]");
+  params.Check(outline.max_poor_frames >= 1, "outline_max_poor_frames", "must be >= 1");
+  params.Check(outline.start_sigma_position > 0.0, "outline_start_sigma_position", "must be > 0");
+  params.Check(outline.start_sigma_rotation > 0.0, "outline_start_sigma_rotation_deg",
+               "must be > 0");
+  params.Check(outline.disparity_sigma >= 0.0, "outline_disparity_sigma", "must be >= 0");
+  params.Check(a.contour_points >= 8, "outline_contour_points", "must be >= 8");
+  params.Check(a.search_radius_px >= 0.0, "outline_search_radius", "must be >= 0");
+  params.Check(a.covariance_scale > 0.0, "outline_covariance_scale", "must be > 0");
+  params.Check(!outline.enabled || r.track, "outline", "needs track: true");
+  o.robot_description = params.Get("robot_description", o.robot_description);
   o.frames = aar_ros_common::LoadStackFrames(params);
   o.truth_frame = params.Get("truth_frame", o.truth_frame);
   o.tf_timeout = params.GetNonNegative("tf_timeout", o.tf_timeout);

@@ -24,6 +24,7 @@
 #include <aar_description/receiver_description.h>
 
 #include "aar_registration/registrar.h"
+#include "aar_registration/ros/outline_inputs.h"
 
 namespace aar_registration {
 
@@ -40,6 +41,9 @@ struct RegistrationNodeOptions {
   // every later tanker -> receiver transform TF_OLD_DATA. Stamp 0 is refused too.
   double max_stamp_lead = 1.0;
   double diagnostic_period = 1.0;  // [s wall] /diagnostics
+  // The boom's URDF for the outline's mask (registrar.outline): a parameter name, resolved in the
+  // node's namespace.
+  std::string robot_description = "robot_description";
 };
 
 // Reads ~parameters (one function, unknown keys rejected); throws std::invalid_argument.
@@ -64,6 +68,8 @@ class RegistrationNode {
   void OnPointsSeen(const sensor_msgs::PointCloud2::ConstPtr& msg);
   void ExpirePending(const ros::WallTimerEvent&);
   void Publish(const RegistrarResult& result, const ros::Time& stamp, double total_ms);
+  // The outline's alignment on aar/outline_pose and its counts for /diagnostics.
+  void PublishOutline(const RegistrarResult& result, const std_msgs::Header& cloud_header);
   void PublishModels();
   // Shells the static reference once the cameras' tf is there (waiting up to `tf_wait` [s]):
   // true when built. Until then the frames have no estimate and a timer tries again.
@@ -78,7 +84,8 @@ class RegistrationNode {
   tf2_ros::Buffer tf_buffer_;
   tf2_ros::TransformListener tf_listener_;
   tf2_ros::TransformBroadcaster tf_broadcaster_;
-  ros::Publisher pose_pub_, estimate_pub_, models_pub_;
+  ros::Publisher pose_pub_, estimate_pub_, models_pub_, outline_pub_;
+  std::unique_ptr<OutlineInputs> outline_;  // registrar.outline.enabled
   ros::Subscriber cloud_sub_;
   using Sync =
       message_filters::TimeSynchronizer<sensor_msgs::PointCloud2, sensor_msgs::PointCloud2>;
@@ -103,6 +110,10 @@ class RegistrationNode {
   size_t frames_ = 0, estimates_ = 0;
   std::map<TrackOutcome, size_t> outcomes_;  // tracking: frames by outcome
   std::string last_error_, last_track_reason_;
+  // The outline: frames it ran on, fused, and its last note and fit.
+  size_t outline_ran_ = 0, outline_fused_ = 0, outline_missing_ = 0;
+  std::string last_outline_note_, last_outline_missing_;
+  double last_outline_quality_ = 0.0;
   TrackOutcome last_outcome_ = TrackOutcome::kMissed;
 };
 
