@@ -133,11 +133,11 @@ TEST(OutlineAligner, RecoversAPerturbedPoseFarOutAndNearContact) {
         range, position, e.x(), e.y(), e.z(), std::sqrt(r.covariance(0, 0)),
         std::sqrt(r.covariance(1, 1)), std::sqrt(r.covariance(2, 2)), angle, r.quality, r.lines,
         r.time_ms);
-    // Measured: 150 m 0.xx m / 0.xx deg; 40 m 0.0xx m / 0.0xx deg.
-    EXPECT_LT(position, range > 100.0 ? 0.8 : 0.05) << range;
-    EXPECT_LT(angle, range > 100.0 ? 0.5 : 0.1) << range;
-    EXPECT_GT(r.quality, 0.5);
-    // The covariance is a covariance, and along the line of sight (range) the largest.
+    // Measured: 150 m 0.092 m / 0.252 deg; 40 m 0.008 m / 0.060 deg (fit 1.00 and 0.99).
+    EXPECT_LT(position, range > 100.0 ? 0.15 : 0.015) << range;
+    EXPECT_LT(angle, range > 100.0 ? 0.35 : 0.1) << range;
+    EXPECT_GT(r.quality, 0.9);
+    // The covariance is a covariance.
     EXPECT_TRUE(r.covariance.allFinite());
     EXPECT_GT(r.covariance.diagonal().minCoeff(), 0.0);
   }
@@ -156,8 +156,9 @@ TEST(OutlineAligner, ScoreTellsAWrongPoseFromTheTruth) {
   scene.in.T_tanker_receiver_predicted = At(30.0);
   const double short_start = aligner.Score(scene.in).quality;
   std::printf("[ quality ] truth %.3f, 2 m off %.3f, 50 m short %.3f\n", right, wrong, short_start);
-  EXPECT_GT(right, 0.6);
-  EXPECT_LT(wrong, 0.5 * right);
+  // Measured: truth 1.000, 2 m off 0.032, 50 m short 0.030.
+  EXPECT_GT(right, 0.9);
+  EXPECT_LT(wrong, 0.2);
   EXPECT_LT(short_start, 0.2);
 }
 
@@ -170,7 +171,7 @@ TEST(ShiftSearch, FindsTheSilhouetteAcrossTheLineOfSight) {
   const double left = (r.T_tanker_receiver.translation() - scene.truth.translation()).norm();
   std::printf("[ search ] shift (%.1f, %.1f) px, %.2f m from the truth (start 3.6 m)\n",
               r.shift_px.x(), r.shift_px.y(), left);
-  EXPECT_LT(left, 1.0);
+  EXPECT_LT(left, 1.0);  // measured 0.85 m
 }
 
 TEST(OutlineAligner, BadInputIsRefusedNamingWhatIsWrong) {

@@ -1,0 +1,165 @@
+// Issue 27 on rendered frames: the outline alignment (aar_alignment) recovers a receiver pose
+// perturbed by 2 m and 3 deg at 170 m in the ideal and the realistic world, masking the boom
+// matters where it crosses the receiver, and the tracker refuses a start whose outline does not
+// fit the images (a self-consistent wrong pose stereo alone would accept).
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include <aar_alignment/aligner.h>
+#include <aar_alignment/boom_parts.h>
+#include <aar_description/boom_model.h>
+#include <aar_geometry/pose_error.h>
+#include <aar_geometry/receiver_reference.h>
+#include <aar_occlusion/boom.h>
+#include <aar_registration/registrar.h>
+#include <aar_sim/flight_path.h>
+
+#include "aar_testing/alignment_views.h"
+#include "aar_testing/paths.h"
+#include "aar_testing/sim_stereo.h"
+
+namespace aar_testing {
+namespace {
+
+struct Errors {
+  double mean_position = 0.0, max_position = 0.0, max_angle_deg = 0.0, min_quality = 1.0;
+  double lines = 0.0;  // mean usable lines
+  int failures = 0;
+};
+
+// The frame at path time `t` rendered in `world`, aligned from `starts` starts off the truth by
+// `position` [m] and `attitude` [rad] in seeded random directions (with a prediction covariance
+// of that size, as a tracker would give), the boom masked or not.
+Errors AlignFromPerturbedStarts(const aar_sim::WorldOptions& world, double t, int starts,
+                                double position, double attitude, bool mask_boom) {
+  SimStereo sim(world);
+  const auto path = aar_sim::FlightPath::Load(DefaultApproachPath());
+  const aar_sim::StereoFrame f = sim.world().Render(path.At(t), aar_description::DefaultBoomPose(),
+                                                    static_cast<uint64_t>(t * 10));
+  aar_alignment::AlignmentInput in;
+  in.left = sim.Left(f), in.right = sim.Right(f);
+  in.left_camera = LeftCamera(sim.rig()), in.right_camera = RightCamera(sim.rig());
+  if (mask_boom) {
+    in.boom_parts_in_tanker = aar_alignment::BoomPartsInTanker(
+        aar_occlusion::LoadBoomParts(LoadBoomModel()), f.T_tanker_links);
+  }
+  aar_alignment::Vector6d sigma;
+  sigma << Eigen::Vector3d::Constant(position), Eigen::Vector3d::Constant(attitude);
+  in.prediction_covariance = sigma.cwiseAbs2().asDiagonal();
+  const aar_alignment::OutlineAligner aligner(sim.world().receiver_mesh());
+  std::mt19937 rng(27);
+  std::normal_distribution<double> gauss;
+  auto direction = [&] { return Eigen::Vector3d(gauss(rng), gauss(rng), gauss(rng)).normalized(); };
+  Errors e;
+  for (int s = 0; s < starts; ++s) {
+    in.T_tanker_receiver_predicted = f.T_tanker_receiver;
+    in.T_tanker_receiver_predicted.translation() += position * direction();
+    in.T_tanker_receiver_predicted.linear() =
+        Eigen::AngleAxisd(attitude, direction()).toRotationMatrix() * f.T_tanker_receiver.linear();
+    const aar_alignment::AlignmentResult r = aligner.Align(in);
+    if (!r.valid) {
+      ++e.failures;
+      continue;
+    }
+    const auto error = aar_geometry::ComputePoseError(f.T_tanker_receiver, r.T_tanker_receiver);
+    e.mean_position += error.position_m.norm() / starts;
+    e.max_position = std::max(e.max_position, error.position_m.norm());
+    e.max_angle_deg =
+        std::max({e.max_angle_deg, std::abs(error.orientation_rad.roll),
+                  std::abs(error.orientation_rad.pitch), std::abs(error.orientation_rad.yaw)});
+    e.min_quality = std::min(e.min_quality, r.quality);
+    e.lines += static_cast<double>(r.lines) / starts;
+  }
+  e.max_angle_deg *= 180.0 / M_PI;
+  return e;
+}
+
+void Print(const char* what, const Errors& e) {
+  std::printf(
+      "[ %s ] mean %.3f m, max %.3f m, max angle %.3f deg, min fit %.2f, %.0f lines, %d failed\n",
+      what, e.mean_position, e.max_position, e.max_angle_deg, e.min_quality, e.lines, e.failures);
+}
+
+TEST(OutlineAlignment, RecoversAPosePerturbedBy2mAnd3DegAt170m) {
+  const double deg = M_PI / 180.0;
+  const Errors ideal =
+      AlignFromPerturbedStarts(SimStereo::DefaultWorld(), 0.5, 8, 2.0, 3 * deg, true);
+  Print("ideal, 170.6 m", ideal);
+  const Errors realistic = AlignFromPerturbedStarts(RealisticWorld(), 0.5, 8, 2.0, 3 * deg, true);
+  Print("realistic, 170.6 m", realistic);
+  // Measured: ideal mean 0.344 m, max 0.672 m, 0.200 deg, fit >= 0.87; realistic mean 0.375 m,
+  // max 0.896 m, 0.271 deg, fit >= 0.81. Most of it lies along the line of sight, where the
+  // outline's own sigma at 170 m is about 0.7 m (its covariance).
+  for (const Errors* e : {&ideal, &realistic}) {
+    EXPECT_EQ(e->failures, 0);
+    EXPECT_LT(e->mean_position, 0.45);
+    EXPECT_LT(e->max_position, 1.0);
+    EXPECT_LT(e->max_angle_deg, 0.35);
+    EXPECT_GT(e->min_quality, 0.75);
+  }
+}
+
+// Near contact (36.5 m) the boom crosses the receiver: the lines that cross its projection are
+// left out, and the alignment holds from a tracker-sized error. (Measured: unmasked, the boom's
+// edges do not pull it measurably on the default approach, 0.065 against 0.066 m mean; the
+// mask is kept for what lies behind the boom, which the cameras cannot see.)
+TEST(OutlineAlignment, NearContactTheBoomIsMaskedAndTheAlignmentHolds) {
+  const double deg = M_PI / 180.0;
+  const Errors masked =
+      AlignFromPerturbedStarts(SimStereo::DefaultWorld(), 50.5, 6, 0.15, 1 * deg, true);
+  const Errors unmasked =
+      AlignFromPerturbedStarts(SimStereo::DefaultWorld(), 50.5, 6, 0.15, 1 * deg, false);
+  Print("contact, boom masked", masked);
+  Print("contact, boom not masked", unmasked);
+  // Measured: masked 0.007 m mean, 0.010 m max, 0.026 deg, 363 lines against 400 unmasked.
+  EXPECT_EQ(masked.failures, 0);
+  EXPECT_LT(masked.max_position, 0.02);
+  EXPECT_LT(masked.max_angle_deg, 0.1);
+  EXPECT_LT(masked.lines, unmasked.lines - 10);
+}
+
+// Stereo alone cannot tell a self-consistent wrong pose: a cloud that is the receiver's own shape
+// placed 140 m short of it registers perfectly and starts a track. The outline in the images,
+// where the receiver is 170 m out, refuses that start.
+TEST(OutlineAlignment, AStartWhoseOutlineDoesNotFitIsRefused) {
+  SimStereo sim;
+  const auto path = aar_sim::FlightPath::Load(DefaultApproachPath());
+  const aar_sim::StereoFrame f =
+      sim.world().Render(path.At(0.5), aar_description::DefaultBoomPose(), 5);
+  const aar_geometry::TriangleMesh& mesh = sim.world().receiver_mesh();
+  Eigen::Isometry3d wrong = f.T_tanker_receiver;
+  wrong.translation() *= 30.0 / wrong.translation().norm();  // 30 m out, 140 m short
+  std::vector<Eigen::Vector3d> cloud;
+  for (const auto& p : aar_geometry::SampleReceiver(mesh, {}).points) cloud.push_back(wrong * p);
+  aar_registration::OutlineFrame frame;
+  frame.left = sim.Left(f), frame.right = sim.Right(f);
+  frame.left_camera = LeftCamera(sim.rig()), frame.right_camera = RightCamera(sim.rig());
+  frame.boom_parts_in_tanker = aar_alignment::BoomPartsInTanker(
+      aar_occlusion::LoadBoomParts(LoadBoomModel()), f.T_tanker_links);
+  for (const bool outline : {false, true}) {
+    aar_registration::RegistrarOptions o;
+    o.reference = aar_registration::ReferenceKind::kDense;
+    o.track = true;
+    o.outline.enabled = outline;
+    aar_registration::Registrar registrar(o);
+    registrar.BuildStaticReference(mesh, {});
+    registrar.SetOutlineModel(mesh);
+    const aar_registration::RegistrarResult r = registrar.Register(cloud, 1.0, &frame);
+    std::printf("[ outline %s ] registered %d, track %s, valid %d, %s\n", outline ? "on" : "off",
+                r.registered, aar_registration::ToString(r.track.outcome), r.valid,
+                r.outline_note.c_str());
+    ASSERT_TRUE(r.registered);  // stereo alone: a perfect fit
+    if (!outline) {
+      EXPECT_EQ(r.track.outcome, aar_registration::TrackOutcome::kStarted);
+      EXPECT_TRUE(r.valid);
+    } else {
+      EXPECT_FALSE(r.valid);
+      EXPECT_NE(r.track.outcome, aar_registration::TrackOutcome::kStarted);
+      EXPECT_NE(r.outline_note.find("start refused"), std::string::npos) << r.outline_note;
+    }
+  }
+}
+
+}  // namespace
+}  // namespace aar_testing
