@@ -388,4 +388,45 @@ TEST(Config, ReceiverGateOffByDefaultBadValuesRefused) {
   }
 }
 
+// The outline (registration's `outline`, issue 27) is off unless asked for; out-of-range keys,
+// and the outline without tracking, are refused naming the key.
+TEST(Config, OutlineOffByDefaultBadValuesRefused) {
+  try {
+    EXPECT_FALSE(aar_registration::LoadRegistrationNodeOptions(
+                     ros::NodeHandle("/registration_outline_default"))
+                     .registrar.outline.enabled);
+  } catch (const std::exception& e) {
+    ADD_FAILURE() << e.what();
+  }
+  const std::vector<std::pair<std::string, double>> bad_values = {
+      {"outline_min_quality", 1.5},         {"outline_maneuver_quality", -0.1},
+      {"outline_max_poor_frames", 0},       {"outline_start_sigma_position", 0.0},
+      {"outline_disparity_sigma", -1.0},    {"outline_contour_points", 4},
+      {"outline_covariance_scale", 0.0},    {"outline_search_radius", -1.0}};
+  for (const auto& [key, value] : bad_values) {
+    ros::NodeHandle bad("/registration_outline_bad_" + key);
+    bad.setParam("track", true);
+    bad.setParam("outline", true);
+    if (key == "outline_max_poor_frames" || key == "outline_contour_points")
+      bad.setParam(key, static_cast<int>(value));
+    else
+      bad.setParam(key, value);
+    try {
+      aar_registration::LoadRegistrationNodeOptions(bad);
+      ADD_FAILURE() << key << " = " << value << " was accepted";
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find(bad.getNamespace() + "/" + key), std::string::npos)
+          << e.what();
+    }
+  }
+  ros::NodeHandle untracked("/registration_outline_untracked");
+  untracked.setParam("outline", true);
+  try {
+    aar_registration::LoadRegistrationNodeOptions(untracked);
+    ADD_FAILURE() << "the outline without tracking was accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("needs track: true"), std::string::npos) << e.what();
+  }
+}
+
 }  // namespace
