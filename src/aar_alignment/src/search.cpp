@@ -35,6 +35,9 @@ ShiftSearchResult SearchShift(const OutlineModel& model, const cv::Mat& image, c
                cv::Point(static_cast<int>(std::ceil(footprint.max().x() + reach.x())),
                          static_cast<int>(std::ceil(footprint.max().y() + reach.y())))) &
       cv::Rect(0, 0, image.cols, image.rows);
+  // Near contact the receiver fills much of the image: no background around it to search
+  // against, and the lines alone reach a tracked receiver's error.
+  if (size.x() > image.cols / 3.0 || size.y() > image.rows / 3.0) return out;
   if (roi.width < size.x() || roi.height < size.y()) return out;  // the receiver leaves the image
   cv::Mat small, weight;
   cv::resize(image(roi), small, cv::Size(), m, m, cv::INTER_AREA);

@@ -281,8 +281,14 @@ void Registrar::Track(double stamp_s, const OutlineFrame* frame, RegistrarResult
   if (!now.valid) return;
   const auto a = AlignOutline(*frame, now.T_tanker_receiver, now.covariance, out);
   if (a.valid && a.quality >= o.min_quality) {
-    const TrackUpdate u =
-        tracker_.Update(stamp_s, a.T_tanker_receiver, MeasurementCovariance(a, o));
+    TrackUpdate u = tracker_.Update(stamp_s, a.T_tanker_receiver, MeasurementCovariance(a, o));
+    if (u.outcome == TrackOutcome::kRejected && a.quality >= o.maneuver_quality) {
+      // The images say, and fit well, that the receiver is not where the track predicts it: a
+      // maneuver, followed (velocity uncertainty reset) instead of coasted through.
+      tracker_.Maneuver(o.start_sigma_position, o.start_sigma_rotation);
+      u = tracker_.Update(stamp_s, a.T_tanker_receiver, MeasurementCovariance(a, o));
+      out.outline_note = "maneuver: the outline fits away from the prediction (" + Quality(a) + ")";
+    }
     out.outline_fused = u.outcome == TrackOutcome::kAccepted;
     if (out.outline_fused) {
       poor_outline_frames_ = 0;

@@ -27,7 +27,8 @@ struct ShiftSearchResult {
 // exhaustively over +-radius on a grid of the template's scale, refined to a fraction of a grid
 // step. It finds the prediction's largest error far out, across the line of sight, where the
 // outline's lines alone are too short. `boom`: CV_8U, 1 where the boom hides the receiver (may be
-// empty). Invalid when the receiver and a margin around it do not fit in the image (near contact).
+// empty). Invalid when the receiver's silhouette spans more than a third of the image either way
+// (near contact), or it and a margin around it do not fit in the image.
 ShiftSearchResult SearchShift(const OutlineModel& model, const cv::Mat& image, const cv::Mat& boom,
                               const PinholeCamera& camera,
                               const Eigen::Isometry3d& T_tanker_receiver,
