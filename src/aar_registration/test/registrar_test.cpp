@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <random>
 
 #include <aar_geometry/mesh_io.h>
@@ -343,6 +344,34 @@ TEST(Registrar, RefusesOptionsThatCannotWork) {
   options = {};
   options.gate.min_fitness = 1.5;
   EXPECT_THROW(Registrar{options}, std::invalid_argument);
+  options = {};
+  options.outline.enabled = true;  // without tracking
+  EXPECT_THROW(Registrar{options}, std::invalid_argument);
+  for (const auto& bad : std::vector<std::function<void(OutlineOptions&)>>{
+           [](OutlineOptions& o) { o.min_quality = 1.5; },
+           [](OutlineOptions& o) { o.max_poor_frames = 0; },
+           [](OutlineOptions& o) { o.disparity_sigma = -0.1; },
+           [](OutlineOptions& o) { o.alignment.scales = {}; }}) {
+    options = {};
+    options.track = true;
+    bad(options.outline);
+    EXPECT_THROW(Registrar{options}, std::invalid_argument);
+  }
+}
+
+// With the outline on but no images this frame (or no mesh), the registrar tracks as before.
+TEST(Registrar, TheOutlineWithoutImagesTracksAsBefore) {
+  RegistrarOptions options;
+  options.track = true;
+  options.outline.enabled = true;
+  Registrar registrar(options);
+  std::vector<Eigen::Vector3d> points;
+  for (int i = 0; i < 500; ++i) points.emplace_back(std::cos(0.1 * i), std::sin(0.3 * i), 0.01 * i);
+  registrar.SetReference(points, {});
+  const RegistrarResult r = registrar.Register(points, 1.0, nullptr);
+  EXPECT_TRUE(r.valid) << r.error;
+  EXPECT_EQ(r.track.outcome, TrackOutcome::kStarted);
+  EXPECT_FALSE(r.outline_ran);
 }
 
 }  // namespace

@@ -147,6 +147,38 @@ TEST(Tracker, RejectsAJumpCoastsThenReacquiresAfterALoss) {
             TrackOutcome::kAccepted);
 }
 
+// A maneuver (issue 27): a measurement 2 m off the prediction fails the gate; after Maneuver()
+// the same measurement is taken and the track follows the receiver, whose new velocity it learns
+// within a few frames. Drop() loses the track with the reason given.
+TEST(Tracker, AManeuverIsFollowedAndDropEndsTheTrack) {
+  Tracker tracker;
+  Noisy noisy;
+  for (int k = 0; k <= 30; ++k) tracker.Update(k * kDt, noisy(Truth(k * kDt)), noisy.Covariance());
+  Eigen::Isometry3d stepped = Truth(31 * kDt);
+  stepped.translation().y() += 2.0;
+  ASSERT_EQ(tracker.Update(31 * kDt, stepped, noisy.Covariance()).outcome, TrackOutcome::kRejected);
+  tracker.Maneuver(2.0, 0.05);
+  const TrackUpdate followed = tracker.Update(31 * kDt, stepped, noisy.Covariance());
+  EXPECT_EQ(followed.outcome, TrackOutcome::kAccepted);
+  EXPECT_LT((followed.filtered.T_tanker_receiver.translation() - stepped.translation()).norm(),
+            0.1);
+  // The receiver goes on 2 m aside, sliding at 1 m/s: the velocity is learnt again.
+  for (int k = 32; k <= 45; ++k) {
+    Eigen::Isometry3d T = Truth(k * kDt);
+    T.translation().y() += 2.0 + (k - 31) * kDt;
+    EXPECT_EQ(tracker.Update(k * kDt, noisy(T), noisy.Covariance()).outcome,
+              TrackOutcome::kAccepted)
+        << k;
+  }
+  EXPECT_NEAR(tracker.Predict(46 * kDt).velocity.y(), 0.2 + 1.0, 0.3);
+  const TrackUpdate dropped = tracker.Drop("integrity: the outline does not fit");
+  EXPECT_EQ(dropped.outcome, TrackOutcome::kLost);
+  EXPECT_EQ(dropped.reason, "integrity: the outline does not fit");
+  EXPECT_EQ(tracker.state(), TrackState::kAcquiring);
+  tracker.Maneuver(2.0, 0.05);  // acquiring: nothing to do
+  EXPECT_FALSE(tracker.Predict(46 * kDt).valid);
+}
+
 TEST(Tracker, CoastingTooLongDropsTheTrack) {
   TrackerOptions options;
   options.max_rejections = 100;
