@@ -589,7 +589,8 @@ AlignmentResult OutlineAligner::Align(const AlignmentInput& in) const {
       }
     }
   }
-  run.Outline();
+  // The result's figures from the last stage's outline points, reprojected at the final pose
+  // (the fine stage moved it by a pixel or two: the points, normals and profiles still hold).
   const Pass last = run.Evaluate(options_.scales.back());
   run.Finish(last, out);
   out.valid = last.usable >= options_.min_lines && out.covariance.allFinite();
