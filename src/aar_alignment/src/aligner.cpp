@@ -47,8 +47,9 @@ struct Line {
   Eigen::Vector3d body;
   Eigen::Vector2d center, normal;
   // The receiver's expected image along the line, smoothed: the probability that the pixel z px
-  // outward of the outline is the receiver is expected[z + half] (ContourPoint::profile).
-  std::vector<float> expected;
+  // outward of the outline is the receiver is expected[z + half] (ContourPoint::profile); held by
+  // the run's outline (Expectation), built once per outline.
+  const std::vector<float>* expected = nullptr;
   std::vector<float> grey;            // per pixel along the line (kUnseen: not seen)
   std::vector<float> foreground;      // per pixel: probability of the receiver, or kUnseen
   double mean = 0.0, variance = 0.0;  // [px] where the outline lies along the line
@@ -109,13 +110,11 @@ struct LineShape {
   int hypotheses = 0;  // at d_j = (j - (hypotheses - 1) / 2) s [px]
   double spacing = 1.0;
   double window = 0.0;  // [px] either side of a hypothesis
-  double slope = 0.5;   // [px] of the smoothed steps (the profile's smoothing radius)
 
   LineShape(const AlignmentOptions& o, double scale)
       : hypotheses(o.line_samples - o.step_window + 1),
         spacing(scale),
-        window(0.5 * o.step_window * scale),
-        slope(o.step_slope) {
+        window(0.5 * o.step_window * scale) {
     pixels = 2 * static_cast<int>(std::ceil(0.5 * (hypotheses - 1) * scale + window));
   }
   double X(int i) const { return i - 0.5 * pixels + 0.5; }
@@ -126,11 +125,11 @@ struct LineShape {
 void Sample(const View& v, const LineShape& shape, Line& line) {
   line.grey.assign(static_cast<size_t>(shape.pixels), kUnseen);
   const int w = v.image->cols, h = v.image->rows;
+  const bool boom = !v.boom.empty();
   for (int i = 0; i < shape.pixels; ++i) {
     const Eigen::Vector2d p = line.center + shape.X(i) * line.normal;
     if (!(p.x() >= 0.0 && p.y() >= 0.0 && p.x() < w - 1 && p.y() < h - 1)) continue;
-    if (!v.boom.empty() &&
-        v.boom.at<uint8_t>(static_cast<int>(p.y() + 0.5), static_cast<int>(p.x() + 0.5)))
+    if (boom && v.boom.at<uint8_t>(static_cast<int>(p.y() + 0.5), static_cast<int>(p.x() + 0.5)))
       continue;
     line.grey[i] = Bilinear(*v.image, p.x(), p.y());
   }
@@ -138,9 +137,10 @@ void Sample(const View& v, const LineShape& shape, Line& line) {
 
 // The probability that the pixel z [px] outward of the predicted outline is the receiver.
 float Expected(const Line& l, double z) {
-  const int half = static_cast<int>(l.expected.size() / 2);
+  const std::vector<float>& expected = *l.expected;
+  const int half = static_cast<int>(expected.size() / 2);
   const int i = static_cast<int>(std::floor(z)) + half;
-  return l.expected[std::clamp(i, 0, 2 * half - 1)];
+  return expected[std::clamp(i, 0, 2 * half - 1)];
 }
 
 // The smoothed profile (Line::expected): the profile averaged over `radius` px either side, as
@@ -208,9 +208,8 @@ std::vector<double> RegionLikelihood(const LineShape& shape, const Line& l) {
 // hypothesis is judged on all the line's pixels, so that a uniform stretch cannot win by itself.
 std::vector<double> ContrastLikelihood(const LineShape& shape, const Line& l) {
   constexpr double kNoiseFloor = 4.0;  // [grey^2] per pixel: uniform sky is not infinitely sure
-  const int half = static_cast<int>(l.expected.size() / 2);
-  std::vector<float> receiver(l.expected.size());
-  for (size_t k = 0; k < receiver.size(); ++k) receiver[k] = l.expected[k] > 0.5f;
+  const std::vector<float>& expected = *l.expected;
+  const int half = static_cast<int>(expected.size() / 2);
   double all = 0.0, all_square = 0.0;
   for (const float g : l.grey) all += g, all_square += g * g;
   std::vector<double> logp(shape.hypotheses, 0.0);
@@ -220,7 +219,7 @@ std::vector<double> ContrastLikelihood(const LineShape& shape, const Line& l) {
     const int shift = half - shape.pixels / 2 - static_cast<int>(std::lround(shape.D(j)));
     double count = 0.0, sum = 0.0, square = 0.0;  // of the receiver's class
     for (int i = 0; i < shape.pixels; ++i) {
-      const float c = receiver[std::clamp(i + shift, 0, 2 * half - 1)], g = l.grey[i];
+      const float c = expected[std::clamp(i + shift, 0, 2 * half - 1)] > 0.5f, g = l.grey[i];
       count += c, sum += c * g, square += c * g * g;
     }
     double sse = 0.0;
@@ -291,21 +290,23 @@ struct Pass {
 };
 
 // Lines through the outline points at the pose, their statistics and the Gauss-Newton system.
+// `expected` holds each contour point's smoothed profile (Line::expected).
+using Expectations = std::vector<std::vector<std::vector<float>>>;  // [view][point][pixel]
 Pass Evaluate(const AlignmentOptions& o, const std::vector<View>& views,
-              const std::vector<std::vector<ContourPoint>>& contours, const Eigen::Matrix3d& R,
-              const Eigen::Vector3d& p, double scale) {
+              const std::vector<std::vector<ContourPoint>>& contours, const Expectations& expected,
+              const Eigen::Matrix3d& R, const Eigen::Vector3d& p, double scale) {
   Pass pass;
   const LineShape shape(o, scale);
   for (size_t v = 0; v < views.size(); ++v) {
     const Eigen::Isometry3d T = views[v].T_optical_tanker;
     const PinholeCamera& c = *views[v].camera;
-    for (const ContourPoint& cp : contours[v]) {
+    for (size_t k = 0; k < contours[v].size(); ++k) {
+      const ContourPoint& cp = contours[v][k];
       Line l;
       l.view = static_cast<int>(v);
       l.body = cp.body;
       l.normal = cp.normal;
-      l.expected =
-          Smoothed(cp.profile, static_cast<int>(std::lround(shape.slope)), o.step_amplitude);
+      l.expected = &expected[v][k];
       const Eigen::Vector3d y = T * (R * cp.body + p);
       if (!(y.z() > 0.1)) continue;
       l.center = c.Project(y);
@@ -447,6 +448,10 @@ class OutlineAligner::Run {
       contours_[i] =
           model_.Contour(*views_[i].camera, Pose(), o_.contour_points, profile_half_, o_.mask_size);
       points += contours_[i].size();
+      expected_[i].clear();
+      for (const ContourPoint& cp : contours_[i])
+        expected_[i].push_back(
+            Smoothed(cp.profile, static_cast<int>(std::lround(o_.step_slope)), o_.step_amplitude));
     }
     return points > 0;
   }
@@ -499,7 +504,7 @@ class OutlineAligner::Run {
   }
 
   Pass Evaluate(double scale) const {
-    return aar_alignment::Evaluate(o_, views_, contours_, R_, p_, scale);
+    return aar_alignment::Evaluate(o_, views_, contours_, expected_, R_, p_, scale);
   }
 
   // One Gauss-Newton step of the MAP estimate (the lines and the prediction); the deviation from
@@ -537,6 +542,7 @@ class OutlineAligner::Run {
   int profile_half_ = 0;
   double radius_ = 0.0;  // [m] of the mesh about the receiver's origin
   std::vector<std::vector<ContourPoint>> contours_{2};
+  Expectations expected_{2};  // of contours_
 };
 
 namespace {

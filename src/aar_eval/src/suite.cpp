@@ -28,6 +28,40 @@ std::string Verdict(const Interval& i) {
   return " unresolved";
 }
 
+// The longest wrong lock of each experiment's approaches (LongestWrongLock).
+void WriteWrongLocks(
+    std::ostream& out, const SuiteReportOptions& options,
+    const std::map<std::string, std::map<std::string, std::vector<FrameRecord>>>& records) {
+  out << "\n## Wrong lock (regions B and C)\n\nPer approach, the longest run of frames whose "
+         "own estimate is more than 0.5 m or 2 deg off (a frame without an estimate ends a run); "
+         "how many approaches have one longer than 1 s, the mean over approaches, and the "
+         "longest of all.\n\n"
+      << "| experiment | approaches | longer than 1 s | longest per approach (s) | longest (s) "
+         "|\n|---|---:|---:|---:|---|\n";
+  for (const auto& e : options.experiments) {
+    std::vector<double> seconds;
+    int over = 0;
+    std::string where = "-";
+    double most = 0.0;
+    for (const auto& [a, by_e] : records) {
+      if (!by_e.count(e)) continue;
+      const WrongLock lock = LongestWrongLock(by_e.at(e));
+      seconds.push_back(lock.seconds);
+      over += lock.seconds > 1.0;
+      if (lock.seconds > most) {
+        most = lock.seconds;
+        std::ostringstream s;
+        s << std::fixed << std::setprecision(1) << lock.seconds << " (approach " << a
+          << ", from t = " << lock.start_t << " s)";
+        where = s.str();
+      }
+    }
+    if (seconds.empty()) continue;
+    out << "| " << e << " | " << seconds.size() << " | " << over << " | "
+        << FormatInterval(MeanInterval(seconds, options.confidence), 2) << " | " << where << " |\n";
+  }
+}
+
 }  // namespace
 
 std::string FormatInterval(const Interval& i, int digits) {
@@ -180,6 +214,8 @@ SuiteReportResult WriteSuiteReport(const SuiteReportOptions& options) {
       out << "\n";
     }
   }
+
+  WriteWrongLocks(out, options, records);
 
   for (const auto& baseline : options.baselines) {
     if (!stats.count(baseline)) continue;

@@ -1,5 +1,6 @@
 #include "aar_eval/tables.h"
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <iomanip>
@@ -253,6 +254,34 @@ std::string MarkdownRegionTable(const std::map<std::string, std::vector<FrameRec
     }
   }
   return s.str();
+}
+
+WrongLock LongestWrongLock(const std::vector<FrameRecord>& frames, double max_position_m,
+                           double max_angle_deg) {
+  auto wrong = [&](const FrameRecord& f) {
+    if (f.region != aar_geometry::Region::kB && f.region != aar_geometry::Region::kC) return false;
+    if (!f.estimated) return false;
+    const double position =
+        std::sqrt(f.error[0] * f.error[0] + f.error[1] * f.error[1] + f.error[2] * f.error[2]);
+    const double angle =
+        std::max({std::abs(f.error[3]), std::abs(f.error[4]), std::abs(f.error[5])});
+    return position > max_position_m || angle > max_angle_deg;
+  };
+  WrongLock longest;
+  for (size_t i = 0; i < frames.size();) {
+    if (!wrong(frames[i])) {
+      ++i;
+      continue;
+    }
+    size_t end = i;
+    while (end < frames.size() && wrong(frames[end])) ++end;
+    const double spacing = frames.size() > 1 ? frames[1].t - frames[0].t : 0.0;
+    const double stop = end < frames.size() ? frames[end].t : frames.back().t + spacing;
+    if (stop - frames[i].t > longest.seconds)
+      longest = {stop - frames[i].t, frames[i].t, static_cast<int>(end - i)};
+    i = end;
+  }
+  return longest;
 }
 
 }  // namespace aar_eval

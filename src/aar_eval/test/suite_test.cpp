@@ -87,6 +87,13 @@ TEST(Suite, MeansIntervalsPairedGainsAndIncompleteRuns) {
             std::string::npos)
       << report;
 
+  // Wrong lock: naive's region B frame is 1 m off, its run lasts until the next frame (1 s, not
+  // longer than 1 s) in each approach.
+  EXPECT_NE(
+      report.find("| naive | 3 | 0 | 1.00 [1.00, 1.00] | 1.0 (approach 01, from t = 2.0 s) |"),
+      std::string::npos)
+      << report;
+
   std::filesystem::remove_all(dir + "/approaches");
   EXPECT_THROW(WriteSuiteReport(options), std::runtime_error);
   std::filesystem::remove_all(dir);

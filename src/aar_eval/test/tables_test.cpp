@@ -48,6 +48,32 @@ TEST(Tables, RegionStatsByHand) {
   EXPECT_DOUBLE_EQ(all.rms[0], std::sqrt(10.25 / 3.0));
 }
 
+// Regions B and C at 10 Hz: 0.6 m off for 3 frames, a miss, 3 deg off for 12 frames to the end of
+// the path; region A's error never counts.
+TEST(Tables, LongestWrongLockEndsAtAMissAndAtThePathsEnd) {
+  std::vector<FrameRecord> frames;
+  auto add = [&](aar_geometry::Region region, bool estimated, double x, double yaw) {
+    FrameRecord f;
+    f.t = 0.1 * static_cast<double>(frames.size());
+    f.region = region;
+    f.estimated = estimated;
+    f.error = {x, 0.0, 0.0, 0.0, 0.0, yaw};
+    frames.push_back(f);
+  };
+  for (int i = 0; i < 20; ++i) add(aar_geometry::Region::kA, true, 5.0, 10.0);
+  for (int i = 0; i < 3; ++i) add(aar_geometry::Region::kB, true, 0.6, 0.0);
+  add(aar_geometry::Region::kB, false, 0.0, 0.0);
+  add(aar_geometry::Region::kB, true, 0.4, 1.9);  // within both bounds
+  for (int i = 0; i < 12; ++i) add(aar_geometry::Region::kC, true, 0.0, -3.0);
+  const WrongLock lock = LongestWrongLock(frames);
+  EXPECT_EQ(lock.frames, 12);
+  EXPECT_NEAR(lock.seconds, 1.2, 1e-9);
+  EXPECT_NEAR(lock.start_t, 2.5, 1e-9);
+  EXPECT_EQ(LongestWrongLock(frames, 0.5, 5.0).frames, 3);  // only the 0.6 m run is left
+  EXPECT_NEAR(LongestWrongLock(frames, 0.5, 5.0).seconds, 0.3, 1e-9);
+  EXPECT_EQ(LongestWrongLock({}).frames, 0);
+}
+
 TEST(Tables, PercentDifferenceAndHeadline) {
   EXPECT_DOUBLE_EQ(PercentDifference(2.0, 8.0), 75.0);  // thesis: positive is better
   EXPECT_DOUBLE_EQ(PercentDifference(8.198, 1.125), (1.125 - 8.198) / 1.125 * 100.0);

@@ -76,6 +76,19 @@ PairedRegionStats ComputePairedRegionStats(const std::vector<FrameRecord>& a,
                                            const std::vector<FrameRecord>& b,
                                            ErrorPolicy policy = ErrorPolicy::kEstimated);
 
+// A confidently wrong track: the longest run of consecutive frames in regions B and C whose own
+// estimate is more than `max_position_m` (the position error's norm) or `max_angle_deg` (the
+// largest of roll, pitch and yaw) off. A frame without an estimate (a lost track says so) ends a
+// run. Its length is from its first frame's time to that of the first frame after it (the last
+// frame's spacing at the end of the path); 0 when there is none.
+struct WrongLock {
+  double seconds = 0.0;
+  double start_t = 0.0;  // [s] path time of its first frame
+  int frames = 0;
+};
+WrongLock LongestWrongLock(const std::vector<FrameRecord>& frames, double max_position_m = 0.5,
+                           double max_angle_deg = 2.0);
+
 // The thesis's % difference of `value` against `baseline`: (baseline - value) / baseline * 100,
 // positive when `value` is smaller (better). NaN when the baseline is 0.
 double PercentDifference(double value, double baseline);
