@@ -6,6 +6,7 @@
 #include <limits>
 #include <numeric>
 #include <stdexcept>
+#include <utility>
 
 #include <Eigen/Eigenvalues>
 #include <opencv2/imgproc.hpp>
@@ -208,19 +209,39 @@ std::vector<double> RegionLikelihood(const LineShape& shape, const Line& l) {
 // hypothesis is judged on all the line's pixels, so that a uniform stretch cannot win by itself.
 std::vector<double> ContrastLikelihood(const LineShape& shape, const Line& l) {
   constexpr double kNoiseFloor = 4.0;  // [grey^2] per pixel: uniform sky is not infinitely sure
+  constexpr int kFar = std::numeric_limits<int>::max() / 4;
   const std::vector<float>& expected = *l.expected;
-  const int half = static_cast<int>(expected.size() / 2);
-  double all = 0.0, all_square = 0.0;
-  for (const float g : l.grey) all += g, all_square += g * g;
+  const int last = static_cast<int>(expected.size()) - 1;
+  // The receiver's runs [a, b) of profile indices; a run at either end reaches on (the profile
+  // is read clamped to its ends).
+  std::vector<std::pair<int, int>> runs;
+  for (int k = 0; k <= last; ++k) {
+    if (!(expected[k] > 0.5f)) continue;
+    int b = k;
+    while (b <= last && expected[b] > 0.5f) ++b;
+    runs.emplace_back(k == 0 ? -kFar : k, b > last ? kFar : b);
+    k = b;
+  }
+  // Prefix sums of the grey values and their squares along the line.
+  const int pixels = shape.pixels;
+  std::vector<double> sum_to(pixels + 1, 0.0), square_to(pixels + 1, 0.0);
+  for (int i = 0; i < pixels; ++i) {
+    const float g = l.grey[i];
+    sum_to[i + 1] = sum_to[i] + g;
+    square_to[i + 1] = square_to[i] + g * g;
+  }
+  const double all = sum_to[pixels], all_square = square_to[pixels], n = pixels;
   std::vector<double> logp(shape.hypotheses, 0.0);
-  const double n = shape.pixels;
   for (int j = 0; j < shape.hypotheses; ++j) {
     // Pixel i lies at x = i - pixels / 2 + 1/2: its profile index for the outline at D(j).
-    const int shift = half - shape.pixels / 2 - static_cast<int>(std::lround(shape.D(j)));
+    const int shift = (last + 1) / 2 - pixels / 2 - static_cast<int>(std::lround(shape.D(j)));
     double count = 0.0, sum = 0.0, square = 0.0;  // of the receiver's class
-    for (int i = 0; i < shape.pixels; ++i) {
-      const float c = expected[std::clamp(i + shift, 0, 2 * half - 1)] > 0.5f, g = l.grey[i];
-      count += c, sum += c * g, square += c * g * g;
+    for (const auto& [a, b] : runs) {
+      const int from = std::max(a - shift, 0), to = std::min(b - shift, pixels);
+      if (from >= to) continue;
+      count += to - from;
+      sum += sum_to[to] - sum_to[from];
+      square += square_to[to] - square_to[from];
     }
     double sse = 0.0;
     if (count > 0.0) sse += square - sum * sum / count;

@@ -16,6 +16,7 @@ void OutlineOptions::Validate() const {
   if (!(maneuver_quality >= 0.0 && maneuver_quality <= 1.0))
     fail("maneuver_quality must lie in [0, 1]");
   if (max_poor_frames < 1) fail("max_poor_frames must be at least 1");
+  if (start_candidates < 1) fail("start_candidates must be at least 1");
   if (!(start_sigma_position > 0.0) || !(start_sigma_rotation > 0.0))
     fail("start_sigma_position and start_sigma_rotation must be > 0");
   if (!(disparity_sigma >= 0.0)) fail("disparity_sigma must be >= 0");
@@ -168,7 +169,7 @@ RegistrarResult Registrar::Register(const std::vector<Eigen::Vector3d>& all_sens
     out.T_tanker_receiver = out.T_tanker_receiver_registered;
     out.covariance = CovarianceInTanker(out.icp.covariance, out.T_tanker_receiver);
   } else {
-    Track(stamp_s, outline, out);
+    Track(stamp_s, *sensed, outline, out);
     const TrackPrediction& filtered = out.track.filtered;
     out.valid = filtered.valid;
     out.T_tanker_receiver = filtered.T_tanker_receiver;
@@ -241,35 +242,95 @@ aar_alignment::AlignmentResult Registrar::AlignOutline(const OutlineFrame& frame
   in.prediction_covariance = covariance;
   out.outline = aligner_->Align(in);
   out.outline_ran = true;
+  out.outline_ms += out.outline.time_ms;
   return out.outline;
 }
 
-void Registrar::Track(double stamp_s, const OutlineFrame* frame, RegistrarResult& out) {
+std::string Registrar::GateFailure(const RegistrarResult& out) const {
   std::ostringstream gate;
-  if (out.registered && out.icp.fitness < options_.gate.min_fitness)
+  if (out.icp.fitness < options_.gate.min_fitness)
     gate << "fitness " << out.icp.fitness << " < " << options_.gate.min_fitness;
-  else if (out.registered && out.icp.rms > options_.gate.max_rms)
+  else if (out.icp.rms > options_.gate.max_rms)
     gate << "RMS " << out.icp.rms << " m > " << options_.gate.max_rms << " m";
-  else if (out.registered && out.icp.degenerate)
+  else if (out.icp.degenerate)
     gate << "the reference leaves a motion unconstrained";
+  return gate.str();
+}
+
+namespace {
+
+// The points farther than `radius` from `centre`.
+std::vector<Eigen::Vector3d> Outside(const std::vector<Eigen::Vector3d>& points,
+                                     const Eigen::Vector3d& centre, double radius) {
+  std::vector<Eigen::Vector3d> out;
+  for (const Eigen::Vector3d& p : points)
+    if ((p - centre).squaredNorm() > radius * radius) out.push_back(p);
+  return out;
+}
+
+}  // namespace
+
+void Registrar::Start(double stamp_s, const std::vector<Eigen::Vector3d>& sensed,
+                      const OutlineFrame& frame, RegistrarResult& out) {
+  const double radius = aar_geometry::HalfDiagonal(reference_points_);
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();  // of the reference, receiver frame
+  for (const Eigen::Vector3d& p : reference_points_) centroid += p;
+  centroid /= std::max<size_t>(1, reference_points_.size());
+  std::vector<Eigen::Vector3d> rest = sensed;
+  std::ostringstream refused;
+  for (int k = 0; k < options_.outline.start_candidates; ++k) {
+    if (k > 0) {  // the next seed: the densest ball outside the refused registrations'
+      if (!(radius > 0.0) || rest.size() < static_cast<size_t>(options_.icp.min_correspondences))
+        break;
+      out.registered = false;
+      try {
+        Align(
+            rest,
+            aar_geometry::CentroidSeed(aar_geometry::DensestBall(rest, radius), reference_points_),
+            out);
+      } catch (const std::exception& e) {
+        out.error = e.what();
+      }
+    }
+    std::string why = out.registered ? GateFailure(out) : out.error;
+    if (why.empty()) {
+      const auto a = AlignOutline(frame, out.T_tanker_receiver_registered, StartCovariance(), out);
+      if (a.valid && a.quality >= options_.outline.min_quality) {
+        out.track = tracker_.Update(stamp_s, a.T_tanker_receiver, a.covariance);
+        out.outline_fused = true;
+        out.error.clear();
+        if (k > 0) {
+          std::string before = refused.str();
+          before.resize(before.size() - 2);
+          out.outline_note =
+              "started from seed " + std::to_string(k + 1) + " (refused: " + before + ")";
+        }
+        return;
+      }
+      why = Quality(a);
+    }
+    refused << "seed " << k + 1 << ": " << why << "; ";
+    if (!out.registered || rest.empty()) break;  // nothing to set aside
+    rest = Outside(rest, out.T_tanker_receiver_registered * centroid, radius);
+  }
+  out.outline_note = "start refused: " + refused.str();
+  out.outline_note.resize(out.outline_note.size() - 2);
+  out.track = tracker_.Reject(stamp_s, out.outline_note);
+}
+
+void Registrar::Track(double stamp_s, const std::vector<Eigen::Vector3d>& sensed,
+                      const OutlineFrame* frame, RegistrarResult& out) {
   const bool outline = options_.outline.enabled && aligner_ && frame;
   const OutlineOptions& o = options_.outline;
-  const bool acquiring = tracker_.state() != TrackState::kTracking;
+  if (outline && tracker_.state() != TrackState::kTracking) {
+    Start(stamp_s, sensed, *frame, out);
+    return;
+  }
+  const std::string gate = out.registered ? GateFailure(out) : "";
   if (!out.registered) {
     out.track = tracker_.Reject(stamp_s, out.error);
-  } else if (!gate.str().empty()) {
-    out.track = tracker_.Reject(stamp_s, "registration rejected: " + gate.str());
-  } else if (outline && acquiring) {
-    // A start must fit the images: the outline aligned from ICP's pose.
-    const auto a = AlignOutline(*frame, out.T_tanker_receiver_registered, StartCovariance(), out);
-    if (a.valid && a.quality >= o.min_quality) {
-      out.track = tracker_.Update(stamp_s, a.T_tanker_receiver, a.covariance);
-      out.outline_fused = true;
-    } else {
-      out.outline_note = "start refused: " + Quality(a);
-      out.track = tracker_.Reject(stamp_s, out.outline_note);
-    }
-    return;
+  } else if (!gate.empty()) {
+    out.track = tracker_.Reject(stamp_s, "registration rejected: " + gate);
   } else {
     out.track =
         tracker_.Update(stamp_s, out.T_tanker_receiver_registered, IcpCovariance(out, frame));

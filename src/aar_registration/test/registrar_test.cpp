@@ -350,6 +350,7 @@ TEST(Registrar, RefusesOptionsThatCannotWork) {
   for (const auto& bad : std::vector<std::function<void(OutlineOptions&)>>{
            [](OutlineOptions& o) { o.min_quality = 1.5; },
            [](OutlineOptions& o) { o.max_poor_frames = 0; },
+           [](OutlineOptions& o) { o.start_candidates = 0; },
            [](OutlineOptions& o) { o.disparity_sigma = -0.1; },
            [](OutlineOptions& o) { o.alignment.scales = {}; }}) {
     options = {};

@@ -402,12 +402,14 @@ TEST(Config, OutlineOffByDefaultBadValuesRefused) {
       {"outline_min_quality", 1.5},      {"outline_maneuver_quality", -0.1},
       {"outline_max_poor_frames", 0},    {"outline_start_sigma_position", 0.0},
       {"outline_disparity_sigma", -1.0}, {"outline_contour_points", 4},
-      {"outline_covariance_scale", 0.0}, {"outline_search_radius", -1.0}};
+      {"outline_covariance_scale", 0.0}, {"outline_search_radius", -1.0},
+      {"outline_start_candidates", 0}};
   for (const auto& [key, value] : bad_values) {
     ros::NodeHandle bad("/registration_outline_bad_" + key);
     bad.setParam("track", true);
     bad.setParam("outline", true);
-    if (key == "outline_max_poor_frames" || key == "outline_contour_points")
+    if (key == "outline_max_poor_frames" || key == "outline_contour_points" ||
+        key == "outline_start_candidates")
       bad.setParam(key, static_cast<int>(value));
     else
       bad.setParam(key, value);

@@ -49,6 +49,11 @@ struct OutlineOptions {
   // This many frames in a row without a fitting outline while tracking: the track is dropped
   // (an integrity loss) and acquired again.
   int max_poor_frames = 5;
+  // While acquiring, a start whose registration fails the gate or whose outline does not fit is
+  // tried again from the densest ball of the points outside the refused registration's (clutter
+  // such as the boom's leftover points can be denser than a far receiver), up to this many seeds
+  // per frame; 1: the seed only.
+  int start_candidates = 3;
   // The prior of an alignment from an ICP pose (a start, or a maneuver's registration).
   double start_sigma_position = 2.0;   // [m]
   double start_sigma_rotation = 0.05;  // [rad]
@@ -181,7 +186,14 @@ class Registrar {
              RegistrarResult& out) const;
 
   // The tracking half of Register: ICP's pose (gated) and the outline into the tracker.
-  void Track(double stamp_s, const OutlineFrame* frame, RegistrarResult& out);
+  void Track(double stamp_s, const std::vector<Eigen::Vector3d>& sensed, const OutlineFrame* frame,
+             RegistrarResult& out);
+  // Acquiring with the outline: the first of outline.start_candidates seeds whose registration
+  // passes the gate and whose outline fits starts the track; otherwise the frame is rejected.
+  void Start(double stamp_s, const std::vector<Eigen::Vector3d>& sensed, const OutlineFrame& frame,
+             RegistrarResult& out);
+  // Why the registration in `out` fails the gate (fitness, RMS, degenerate); empty: it passes.
+  std::string GateFailure(const RegistrarResult& out) const;
   // The outline aligned from `T` with its covariance; fills out.outline*.
   aar_alignment::AlignmentResult AlignOutline(const OutlineFrame& frame, const Eigen::Isometry3d& T,
                                               const Matrix6d& covariance,

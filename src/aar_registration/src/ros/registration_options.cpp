@@ -80,6 +80,7 @@ RegistrationNodeOptions LoadRegistrationNodeOptions(aar_ros_common::ParamReader&
   outline.enabled = params.Get("outline", outline.enabled);
   outline.min_quality = params.Get("outline_min_quality", outline.min_quality);
   outline.max_poor_frames = params.Get("outline_max_poor_frames", outline.max_poor_frames);
+  outline.start_candidates = params.Get("outline_start_candidates", outline.start_candidates);
   outline.maneuver_quality = params.Get("outline_maneuver_quality", outline.maneuver_quality);
   outline.start_sigma_position =
       params.Get("outline_start_sigma_position", outline.start_sigma_position);
@@ -99,6 +100,7 @@ RegistrationNodeOptions LoadRegistrationNodeOptions(aar_ros_common::ParamReader&
   params.Check(outline.maneuver_quality >= 0.0 && outline.maneuver_quality <= 1.0,
                "outline_maneuver_quality", "must lie in [0, 1]");
   params.Check(outline.max_poor_frames >= 1, "outline_max_poor_frames", "must be >= 1");
+  params.Check(outline.start_candidates >= 1, "outline_start_candidates", "must be >= 1");
   params.Check(outline.start_sigma_position > 0.0, "outline_start_sigma_position", "must be > 0");
   params.Check(outline.start_sigma_rotation > 0.0, "outline_start_sigma_rotation_deg",
                "must be > 0");
