@@ -34,9 +34,12 @@ RegistrationNode::RegistrationNode(ros::NodeHandle nh, ros::NodeHandle private_n
                           [this](const ros::WallTimerEvent&) { diagnostics_.force_update(); });
   pose_pub_ = nh_.advertise<geometry_msgs::PoseWithCovarianceStamped>("aar/receiver_pose", 10);
   estimate_pub_ = nh_.advertise<aar_msgs::PoseEstimate>("aar/pose_estimate", 10);
+  // The mesh, for the static reference and the outline, loaded once; a mesh that does not load
+  // ends the node: a configuration error.
+  if (options_.registrar.outline.enabled || options_.registrar.reference != ReferenceKind::kTopic)
+    receiver_mesh_ = aar_description::LoadReceiverMesh(options_.receiver);
   if (options_.registrar.outline.enabled) {
-    // A mesh that does not load ends the node: a configuration error.
-    registrar_.SetOutlineModel(aar_description::LoadReceiverMesh(options_.receiver));
+    registrar_.SetOutlineModel(receiver_mesh_);
     outline_ = std::make_unique<OutlineInputs>(nh_, tf_buffer_, options_.frames.tanker,
                                                options_.robot_description, options_.tf_timeout);
     outline_pub_ = nh_.advertise<geometry_msgs::PoseWithCovarianceStamped>("aar/outline_pose", 10);
@@ -54,8 +57,6 @@ RegistrationNode::RegistrationNode(ros::NodeHandle nh, ros::NodeHandle private_n
     pending_timer_ =
         nh_.createWallTimer(ros::WallDuration(0.1), &RegistrationNode::ExpirePending, this);
   } else {
-    // A mesh that does not load ends the node: a configuration error.
-    receiver_mesh_ = aar_description::LoadReceiverMesh(options_.receiver);
     // The cameras' tf may come later (start-up order): frames until then get no estimate.
     reference_wait_since_ = ros::WallTime::now();
     if (!TryBuildStaticReference(2.0)) {

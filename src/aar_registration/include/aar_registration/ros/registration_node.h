@@ -94,7 +94,7 @@ class RegistrationNode {
   ros::WallTimer pending_timer_;
   ros::WallTimer reference_timer_;  // retries TryBuildStaticReference
   ros::WallTime reference_wait_since_;
-  aar_geometry::TriangleMesh receiver_mesh_;  // for the static reference
+  aar_geometry::TriangleMesh receiver_mesh_;  // for the static reference and the outline
   std::mutex pending_mutex_;
   std::map<ros::Time, ros::WallTime> pending_;  // clouds waiting for their reference
   std::set<ros::Time> answered_;                // recent stamps already answered
