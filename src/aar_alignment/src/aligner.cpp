@@ -8,6 +8,7 @@
 #include <stdexcept>
 #include <utility>
 
+#include <aar_geometry/pose.h>
 #include <Eigen/Eigenvalues>
 #include <opencv2/imgproc.hpp>
 
@@ -26,12 +27,6 @@ Eigen::Matrix3d Skew(const Eigen::Vector3d& v) {
   Eigen::Matrix3d m;
   m << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
   return m;
-}
-
-Eigen::Matrix3d Exp(const Eigen::Vector3d& w) {
-  const double a = w.norm();
-  if (a < 1e-12) return Eigen::Matrix3d::Identity();
-  return Eigen::AngleAxisd(a, w / a).toRotationMatrix();
 }
 
 // One camera of the pair as the stages see it.
@@ -537,7 +532,7 @@ class OutlineAligner::Run {
     const Vector6d step = (pass.H + prior_).ldlt().solve(pass.g - prior_ * deviation);
     if (!step.allFinite()) return false;
     p_ += step.head<3>();
-    R_ = Exp(step.tail<3>()) * R_;
+    R_ = aar_geometry::RotationExp(step.tail<3>()) * R_;
     return true;
   }
 

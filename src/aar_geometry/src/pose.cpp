@@ -63,6 +63,12 @@ Eigen::Isometry3d T_body_optical() {
   return T;
 }
 
+Eigen::Matrix3d RotationExp(const Eigen::Vector3d& w) {
+  const double angle = w.norm();
+  if (angle < 1e-12) return Eigen::Matrix3d::Identity();
+  return Eigen::AngleAxisd(angle, w / angle).toRotationMatrix();
+}
+
 Eigen::Isometry3d ExtrapolatePose(const Eigen::Isometry3d& T_parent_body,
                                   const Eigen::Vector3d& velocity,
                                   const Eigen::Vector3d& angular_velocity, double dt) {

@@ -6,14 +6,10 @@
 #include <stdexcept>
 #include <tuple>
 
+#include <aar_geometry/pose.h>
+
 namespace aar_registration {
 namespace {
-
-Eigen::Matrix3d Exp(const Eigen::Vector3d& phi) {
-  const double angle = phi.norm();
-  if (angle < 1e-12) return Eigen::Matrix3d::Identity();
-  return Eigen::AngleAxisd(angle, phi / angle).toRotationMatrix();
-}
 
 Eigen::Vector3d Log(const Eigen::Matrix3d& R) {
   const Eigen::AngleAxisd aa(R);
@@ -74,7 +70,7 @@ void Tracker::Propagate(double stamp_s, Eigen::Vector3d& p, Eigen::Matrix3d& R,
   const double dt = stamp_s - stamp_s_;
   if (!(dt > 0.0)) return;
   p = p + v_ * dt;
-  R = Orthonormal(Exp(w_ * dt) * R);
+  R = Orthonormal(aar_geometry::RotationExp(w_ * dt) * R);
   Matrix12d F = Matrix12d::Identity();
   F.block<3, 3>(0, 6).diagonal().setConstant(dt);
   F.block<3, 3>(3, 9).diagonal().setConstant(dt);
@@ -239,7 +235,7 @@ TrackUpdate Tracker::Update(double stamp_s, const Eigen::Isometry3d& T_tanker_re
   const Eigen::Matrix<double, 12, 6> K = S_ldlt.solve(P_.leftCols<6>().transpose()).transpose();
   const Eigen::Matrix<double, 12, 1> dx = K * y;
   p_ += dx.segment<3>(0);
-  R_ = Orthonormal(Exp(dx.segment<3>(3)) * R_);
+  R_ = Orthonormal(aar_geometry::RotationExp(dx.segment<3>(3)) * R_);
   v_ += dx.segment<3>(6);
   w_ += dx.segment<3>(9);
   Matrix12d IKH = Matrix12d::Identity();

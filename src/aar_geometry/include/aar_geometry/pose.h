@@ -34,6 +34,10 @@ Eigen::Isometry3d MakeTransform(const Eigen::Vector3d& translation, const RollPi
 Eigen::Matrix3d R_body_optical();
 Eigen::Isometry3d T_body_optical();
 
+// The rotation of rotation vector `w`: |w| [rad] about w / |w| (SO(3)'s exponential map); the
+// identity below 1e-12 rad.
+Eigen::Matrix3d RotationExp(const Eigen::Vector3d& w);
+
 // T_parent_body moved on by `dt` [s] at constant velocity: translation + velocity * dt and the
 // rotation turned by angular_velocity * dt about the parent's axes (velocity [m/s] and
 // angular_velocity [rad/s] both in the parent frame, as the tracking filter and
