@@ -27,10 +27,12 @@ float Grey(const cv::Mat& image, int px) {
   return image.ptr<uint8_t>(px / image.cols)[px % image.cols];
 }
 
+SparseMatchOptions ToSparseOptions(const StereoOptions& o);
+
 }  // namespace
 
 void StereoOptions::Validate() const {
-  Check(block_size % 2 == 1 && block_size >= (matcher == Matcher::kBlockMatching ? 5 : 1) &&
+  Check(block_size % 2 == 1 && block_size >= (matcher != Matcher::kSemiGlobal ? 5 : 1) &&
             block_size <= 255,
         "block_size must be odd, 5..255 for block matching (1..255 semi-global), not " +
             std::to_string(block_size));
@@ -49,6 +51,10 @@ void StereoOptions::Validate() const {
   Check(decimation != Decimation::kEveryNth || keep_every >= 1, "keep_every must be at least 1");
   Check(decimation != Decimation::kVoxelGrid || voxel_size > 0.0, "voxel_size must be positive");
   Check(!organized || decimation == Decimation::kNone, "an organized cloud needs decimation none");
+  if (matcher == Matcher::kSparse) {
+    Check(median_filter == 0, "median_filter needs a dense matcher, not sparse");
+    ToSparseOptions(*this).Validate();
+  }
 }
 
 StereoGeometry StereoGeometry::Rectified(int width, int height, double fx, double fy, double cx,
@@ -120,10 +126,9 @@ StereoProcessor::StereoProcessor(const StereoOptions& options) : options_(option
   options_.Validate();
 }
 
-StereoResult StereoProcessor::Process(const cv::Mat& left, const cv::Mat& right,
-                                      const StereoGeometry& geometry,
-                                      const std::optional<cv::Rect>& roi_in) const {
-  const auto t0 = Clock::now();
+namespace {
+
+void CheckImages(const cv::Mat& left, const cv::Mat& right, const StereoGeometry& geometry) {
   Check(!left.empty() && !right.empty(), "empty image");
   Check(left.type() == CV_8UC1 && right.type() == CV_8UC1,
         "images must be 8-bit single channel (mono8)");
@@ -135,106 +140,169 @@ StereoResult StereoProcessor::Process(const cv::Mat& left, const cv::Mat& right,
         "images are " + std::to_string(left.cols) + "x" + std::to_string(left.rows) +
             ", camera info says " + std::to_string(geometry.width) + "x" +
             std::to_string(geometry.height));
-  const StereoOptions& o = options_;
+}
 
-  // Matching region: the roi, widened so the matcher sees the right image's candidates (to the
-  // left by the disparity range) and the block's margins.
-  const cv::Rect full(0, 0, left.cols, left.rows);
-  cv::Rect match = full;
-  const cv::Rect roi = roi_in ? (*roi_in & full) : full;
-  if (roi.area() == 0) {
-    match = cv::Rect();  // nothing predicted in view: nothing to match
-  } else if (roi != full) {
-    const int margin = o.block_size / 2 + 1;
-    match = cv::Rect(roi.x - o.min_disparity - o.num_disparities - margin, roi.y - margin,
-                     roi.width + o.num_disparities + o.min_disparity + 2 * margin,
-                     roi.height + 2 * margin) &
-            full;
-    // OpenCV refuses images smaller than the block: grow a window clipped at a corner.
-    if (match.width < o.block_size)
-      match.x = std::max(0, std::min(match.x, full.width - o.block_size)),
-      match.width = o.block_size;
-    if (match.height < o.block_size)
-      match.y = std::max(0, std::min(match.y, full.height - o.block_size)),
-      match.height = o.block_size;
-    match &= full;
-  }
+// The matcher's window for a region of interest: widened so that the matcher sees the right
+// image's candidates (to the left by the disparity range) and the block's margins.
+cv::Rect MatchWindow(const cv::Rect& roi, const cv::Rect& full, const StereoOptions& o) {
+  if (roi.area() == 0) return cv::Rect();  // nothing predicted in view: nothing to match
+  if (roi == full) return full;
+  const int margin = o.block_size / 2 + 1;
+  cv::Rect match = cv::Rect(roi.x - o.min_disparity - o.num_disparities - margin, roi.y - margin,
+                            roi.width + o.num_disparities + o.min_disparity + 2 * margin,
+                            roi.height + 2 * margin) &
+                   full;
+  // OpenCV refuses images smaller than the block: grow a window clipped at a corner.
+  if (match.width < o.block_size)
+    match.x = std::max(0, std::min(match.x, full.width - o.block_size)),
+    match.width = o.block_size;
+  if (match.height < o.block_size)
+    match.y = std::max(0, std::min(match.y, full.height - o.block_size)),
+    match.height = o.block_size;
+  return match & full;
+}
+
+cv::Mat DenseDisparity16(const cv::Mat& left, const cv::Mat& right, const StereoOptions& o) {
   cv::Mat disparity16;
-  if (match.area() > 0) {
-    if (o.matcher == Matcher::kBlockMatching) {
-      auto bm = cv::StereoBM::create(o.num_disparities, o.block_size);
-      bm->setMinDisparity(o.min_disparity);
-      bm->setPreFilterSize(o.prefilter_size);
-      bm->setPreFilterCap(o.prefilter_cap);
-      bm->setTextureThreshold(o.texture_threshold);
-      bm->setUniquenessRatio(o.uniqueness_ratio);
-      bm->setSpeckleWindowSize(o.speckle_window_size);
-      bm->setSpeckleRange(o.speckle_range);
-      bm->setDisp12MaxDiff(o.disp12_max_diff);
-      bm->compute(left(match), right(match), disparity16);
-    } else {
-      const int area = o.block_size * o.block_size;
-      auto sgbm = cv::StereoSGBM::create(
-          o.min_disparity, o.num_disparities, o.block_size, o.sgbm_p1 > 0 ? o.sgbm_p1 : 8 * area,
-          o.sgbm_p2 > 0 ? o.sgbm_p2 : 32 * area, o.disp12_max_diff, o.prefilter_cap,
-          o.uniqueness_ratio, o.speckle_window_size, o.speckle_range,
-          o.sgbm_full_dp ? cv::StereoSGBM::MODE_HH : cv::StereoSGBM::MODE_SGBM);
-      sgbm->compute(left(match), right(match), disparity16);
-    }
+  if (o.matcher != Matcher::kSemiGlobal) {  // block matching (kSparse: frames without a roi)
+    auto bm = cv::StereoBM::create(o.num_disparities, o.block_size);
+    bm->setMinDisparity(o.min_disparity);
+    bm->setPreFilterSize(o.prefilter_size);
+    bm->setPreFilterCap(o.prefilter_cap);
+    bm->setTextureThreshold(o.texture_threshold);
+    bm->setUniquenessRatio(o.uniqueness_ratio);
+    bm->setSpeckleWindowSize(o.speckle_window_size);
+    bm->setSpeckleRange(o.speckle_range);
+    bm->setDisp12MaxDiff(o.disp12_max_diff);
+    bm->compute(left, right, disparity16);
+  } else {
+    const int area = o.block_size * o.block_size;
+    auto sgbm = cv::StereoSGBM::create(
+        o.min_disparity, o.num_disparities, o.block_size, o.sgbm_p1 > 0 ? o.sgbm_p1 : 8 * area,
+        o.sgbm_p2 > 0 ? o.sgbm_p2 : 32 * area, o.disp12_max_diff, o.prefilter_cap,
+        o.uniqueness_ratio, o.speckle_window_size, o.speckle_range,
+        o.sgbm_full_dp ? cv::StereoSGBM::MODE_HH : cv::StereoSGBM::MODE_SGBM);
+    sgbm->compute(left, right, disparity16);
   }
+  return disparity16;
+}
 
+SparseMatchOptions ToSparseOptions(const StereoOptions& o) {
+  SparseMatchOptions s;
+  s.block_size = o.block_size;
+  s.min_disparity = o.min_disparity;
+  s.num_disparities = o.num_disparities;
+  s.prefilter_cap = o.prefilter_cap;
+  s.texture_threshold = o.texture_threshold;
+  s.uniqueness_ratio = o.uniqueness_ratio;
+  s.lr_max_diff = o.sparse_lr_max_diff;
+  s.budget = o.sparse_budget;
+  return s;
+}
+
+}  // namespace
+
+void StereoProcessor::MatchDense(const cv::Mat& left, const cv::Mat& right, const cv::Rect& roi,
+                                 float shift, StereoResult* result) const {
+  const StereoOptions& o = options_;
+  const cv::Rect match = MatchWindow(roi, cv::Rect(0, 0, left.cols, left.rows), o);
+  if (match.area() == 0) return;
+  const cv::Mat disparity16 = DenseDisparity16(left(match), right(match), o);
   // Fixed point (1/16 px) to float, adjusted for the principal points as stereo_image_proc does.
-  const float invalid = static_cast<float>(o.min_disparity - 1);
-  StereoResult result;
-  result.disparity = cv::Mat(left.size(), CV_32F, cv::Scalar(invalid));
-  // Columns the search range cannot reach and the block's margins never get a disparity.
-  result.valid_window =
-      cv::getValidDisparityROI(full, full, o.min_disparity, o.num_disparities, o.block_size) & roi;
-  const float shift = static_cast<float>(geometry.cx_left - geometry.cx_right);
   const int invalid16 = (o.min_disparity - 1) * 16;
   for (int v = roi.y; v < roi.y + roi.height; ++v) {
     const short* src = disparity16.ptr<short>(v - match.y);
-    float* dst = result.disparity.ptr<float>(v);
+    float* dst = result->disparity.ptr<float>(v);
     for (int u = roi.x; u < roi.x + roi.width; ++u) {
       const short d = src[u - match.x];
       if (d > invalid16) dst[u] = d / 16.0f - shift;
     }
   }
   if (o.median_filter > 0 && roi.area() > 0) {
-    const cv::Mat region = result.disparity(roi);
+    const float invalid = static_cast<float>(o.min_disparity - 1);
+    const cv::Mat region = result->disparity(roi);
     cv::Mat filtered;
     cv::medianBlur(region, filtered, o.median_filter);
     // Where nothing matched nothing is made up; a median of mostly unmatched pixels is unmatched.
     filtered.setTo(invalid, region <= invalid);
     filtered.copyTo(region);
   }
+}
+
+std::vector<int> StereoProcessor::MatchAtSamples(const cv::Mat& left, const cv::Mat& right,
+                                                 const cv::Rect& roi,
+                                                 const std::vector<DisparityZone>& zones,
+                                                 float shift, StereoResult* result) const {
+  SparseMatches m = MatchSparse(left, right, roi, zones, ToSparseOptions(options_));
+  for (size_t i = 0; i < m.pixel.size(); ++i)
+    result->disparity.ptr<float>(m.pixel[i] / left.cols)[m.pixel[i] % left.cols] =
+        m.disparity16[i] / 16.0f - shift;
+  std::vector<int> pixels = std::move(m.pixel);
+  m.disparity16.clear();
+  result->sparse = true;
+  result->samples = std::move(m);
+  return pixels;
+}
+
+StereoResult StereoProcessor::Process(const cv::Mat& left, const cv::Mat& right,
+                                      const StereoGeometry& geometry,
+                                      const std::optional<cv::Rect>& roi_in,
+                                      const std::vector<DisparityZone>& zones) const {
+  const auto t0 = Clock::now();
+  CheckImages(left, right, geometry);
+  const StereoOptions& o = options_;
+  const cv::Rect full(0, 0, left.cols, left.rows);
+  const cv::Rect roi = roi_in ? (*roi_in & full) : full;
+  const float invalid = static_cast<float>(o.min_disparity - 1);
+  const float shift = static_cast<float>(geometry.cx_left - geometry.cx_right);
+  StereoResult result;
+  result.disparity = cv::Mat(left.size(), CV_32F, cv::Scalar(invalid));
+  // Columns the search range cannot reach and the block's margins never get a disparity.
+  result.valid_window =
+      cv::getValidDisparityROI(full, full, o.min_disparity, o.num_disparities, o.block_size) & roi;
+  std::vector<int> pixels;  // the matched pixels, row-major
+  if (o.matcher == Matcher::kSparse && roi_in) {
+    pixels = MatchAtSamples(left, right, roi, zones, shift, &result);
+  } else {
+    MatchDense(left, right, roi, shift, &result);
+    for (int v = roi.y; v < roi.y + roi.height; ++v) {
+      const float* d_row = result.disparity.ptr<float>(v);
+      for (int u = roi.x; u < roi.x + roi.width; ++u)
+        if (d_row[u] > invalid) pixels.push_back(v * left.cols + u);
+    }
+  }
   const auto t1 = Clock::now();
 
   // Reprojection: [x y z w] = Q [u v d 1], by hand (cv::reprojectImageTo3D's arithmetic).
   const cv::Matx44d Q = geometry.Q();
-  const double min_d = 0.0;  // disparities at or below 0 are at infinity
   std::vector<Eigen::Vector3f> points;
-  std::vector<float> intensities;
   std::vector<int> pixel_of_point;
-  points.reserve(static_cast<size_t>(roi.area()) / 4);
-  for (int v = roi.y; v < roi.y + roi.height; ++v) {
-    const float* d_row = result.disparity.ptr<float>(v);
-    for (int u = roi.x; u < roi.x + roi.width; ++u) {
-      const double d = d_row[u];
-      if (!(d > invalid) || d <= min_d) continue;
-      const double w = Q(3, 2) * d + Q(3, 3);
-      const Eigen::Vector3f p(static_cast<float>((u * Q(0, 0) + Q(0, 3)) / w),
-                              static_cast<float>((v * Q(1, 1) + Q(1, 3)) / w),
-                              static_cast<float>(Q(2, 3) / w));
-      if (!(p.z() <= o.max_range)) continue;
-      points.push_back(p);
-      pixel_of_point.push_back(v * left.cols + u);
-    }
+  points.reserve(pixels.size());
+  for (int px : pixels) {
+    const int v = px / left.cols, u = px % left.cols;
+    const double d = result.disparity.ptr<float>(v)[u];
+    if (d <= 0.0) continue;  // disparities at or below 0 are at infinity
+    const double w = Q(3, 2) * d + Q(3, 3);
+    const Eigen::Vector3f p(static_cast<float>((u * Q(0, 0) + Q(0, 3)) / w),
+                            static_cast<float>((v * Q(1, 1) + Q(1, 3)) / w),
+                            static_cast<float>(Q(2, 3) / w));
+    if (!(p.z() <= o.max_range)) continue;
+    points.push_back(p);
+    pixel_of_point.push_back(px);
   }
   result.valid_pixels = static_cast<int>(points.size());
   const auto t2 = Clock::now();
+  Decimate(left, points, pixel_of_point, result.sparse, &result.cloud);
+  const auto t3 = Clock::now();
+  result.timings = {Ms(t0, t1), Ms(t1, t2), Ms(t2, t3), Ms(t0, t3)};
+  return result;
+}
 
-  CloudPoints& cloud = result.cloud;
+void StereoProcessor::Decimate(const cv::Mat& left, const std::vector<Eigen::Vector3f>& points,
+                               const std::vector<int>& pixel_of_point, bool sparse,
+                               CloudPoints* out) const {
+  const StereoOptions& o = options_;
+  CloudPoints& cloud = *out;
   auto add = [&](size_t i) {
     cloud.xyz.push_back(points[i]);
     cloud.pixel.push_back(pixel_of_point[i]);
@@ -252,47 +320,50 @@ StereoResult StereoProcessor::Process(const cv::Mat& left, const cv::Mat& right,
     }
     cloud.width = left.cols;
     cloud.height = left.rows;
-  } else {
-    if (o.decimation == Decimation::kVoxelGrid) {
-      struct Cell {
-        Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-        double intensity = 0;
-        int n = 0;
-        size_t order;
-      };
-      std::unordered_map<int64_t, Cell> cells;
-      const double inv = 1.0 / o.voxel_size;
-      for (size_t i = 0; i < points.size(); ++i) {
-        const int64_t x = static_cast<int64_t>(std::floor(points[i].x() * inv)) & 0x1fffff;
-        const int64_t y = static_cast<int64_t>(std::floor(points[i].y() * inv)) & 0x1fffff;
-        const int64_t z = static_cast<int64_t>(std::floor(points[i].z() * inv)) & 0x1fffff;
-        auto [it, inserted] = cells.try_emplace((x << 42) | (y << 21) | z);
-        if (inserted) it->second.order = i;
-        it->second.sum += points[i].cast<double>();
-        it->second.intensity += Grey(left, pixel_of_point[i]);
-        ++it->second.n;
-      }
-      std::vector<const Cell*> ordered;  // first-seen order: deterministic output
-      ordered.reserve(cells.size());
-      for (const auto& [key, cell] : cells) ordered.push_back(&cell);
-      std::sort(ordered.begin(), ordered.end(),
-                [](const Cell* a, const Cell* b) { return a->order < b->order; });
-      for (const Cell* c : ordered) {
-        cloud.xyz.push_back((c->sum / c->n).cast<float>());
-        cloud.pixel.push_back(pixel_of_point[c->order]);
-        if (o.intensity) cloud.intensity.push_back(static_cast<float>(c->intensity / c->n));
-      }
-    } else {
-      const size_t step =
-          o.decimation == Decimation::kEveryNth ? static_cast<size_t>(o.keep_every) : 1;
-      for (size_t i = 0; i < points.size(); i += step) add(i);
-    }
-    cloud.width = static_cast<int>(cloud.xyz.size());
-    cloud.height = 1;
+    return;
   }
-  const auto t3 = Clock::now();
-  result.timings = {Ms(t0, t1), Ms(t1, t2), Ms(t2, t3), Ms(t0, t3)};
-  return result;
+  if (o.decimation == Decimation::kVoxelGrid) {
+    VoxelGrid(left, points, pixel_of_point, &cloud);
+  } else {
+    const size_t step = o.decimation == Decimation::kEveryNth && !sparse
+                            ? static_cast<size_t>(o.keep_every)
+                            : 1;
+    for (size_t i = 0; i < points.size(); i += step) add(i);
+  }
+  cloud.width = static_cast<int>(cloud.xyz.size());
+  cloud.height = 1;
+}
+
+void StereoProcessor::VoxelGrid(const cv::Mat& left, const std::vector<Eigen::Vector3f>& points,
+                                const std::vector<int>& pixel_of_point, CloudPoints* out) const {
+  struct Cell {
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    double intensity = 0;
+    int n = 0;
+    size_t order;
+  };
+  std::unordered_map<int64_t, Cell> cells;
+  const double inv = 1.0 / options_.voxel_size;
+  for (size_t i = 0; i < points.size(); ++i) {
+    const int64_t x = static_cast<int64_t>(std::floor(points[i].x() * inv)) & 0x1fffff;
+    const int64_t y = static_cast<int64_t>(std::floor(points[i].y() * inv)) & 0x1fffff;
+    const int64_t z = static_cast<int64_t>(std::floor(points[i].z() * inv)) & 0x1fffff;
+    auto [it, inserted] = cells.try_emplace((x << 42) | (y << 21) | z);
+    if (inserted) it->second.order = i;
+    it->second.sum += points[i].cast<double>();
+    it->second.intensity += Grey(left, pixel_of_point[i]);
+    ++it->second.n;
+  }
+  std::vector<const Cell*> ordered;  // first-seen order: deterministic output
+  ordered.reserve(cells.size());
+  for (const auto& [key, cell] : cells) ordered.push_back(&cell);
+  std::sort(ordered.begin(), ordered.end(),
+            [](const Cell* a, const Cell* b) { return a->order < b->order; });
+  for (const Cell* c : ordered) {
+    out->xyz.push_back((c->sum / c->n).cast<float>());
+    out->pixel.push_back(pixel_of_point[c->order]);
+    if (options_.intensity) out->intensity.push_back(static_cast<float>(c->intensity / c->n));
+  }
 }
 
 }  // namespace aar_stereo

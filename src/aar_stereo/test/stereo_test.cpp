@@ -237,6 +237,38 @@ TEST(Stereo, RegionOfInterestMatchesTheFullImageInside) {
   EXPECT_LT(differ, inside / 100) << differ << " of " << inside;
 }
 
+// The sparse matcher (ours): with a region of interest, points at the sample grid only, each with
+// block matching's disparity; without one (acquisition), block matching of the whole image.
+TEST(Stereo, SparseMatcherSamplesTheRoiAndBlockMatchesWithoutOne) {
+  const StereoGeometry g = Geometry();
+  const auto [left, right] = PlanesPair(g, 17);
+  StereoOptions dense = AllPoints();
+  dense.speckle_window_size = 0;  // the sparse matcher has none
+  const StereoResult reference = StereoProcessor(dense).Process(left, right, g);
+  StereoOptions o = AllPoints();
+  o.matcher = Matcher::kSparse;
+  o.sparse_budget = 2000;
+  o.sparse_lr_max_diff = -1;
+  const cv::Rect roi(150, 60, 400, 360);
+  const StereoResult r = StereoProcessor(o).Process(left, right, g, roi);
+  ASSERT_TRUE(r.sparse);
+  EXPECT_LE(r.samples.samples, 2000);
+  EXPECT_GT(r.cloud.xyz.size(), 1500u);  // the planes are textured: most samples match
+  for (size_t i = 0; i < r.cloud.xyz.size(); ++i) {
+    const int px = r.cloud.pixel[i], u = px % g.width, v = px / g.width;
+    EXPECT_TRUE(roi.contains(cv::Point(u, v)));
+    EXPECT_EQ(u % r.samples.stride, 0);
+    EXPECT_NEAR(r.disparity.at<float>(v, u), reference.disparity.at<float>(v, u), 1.0 / 16 + 1e-6);
+  }
+  o.decimation = Decimation::kEveryNth;  // keep_every 8: dense frames only
+  const StereoResult acquiring = StereoProcessor(o).Process(left, right, g);
+  EXPECT_FALSE(acquiring.sparse);
+  EXPECT_NEAR(static_cast<double>(acquiring.cloud.xyz.size()), acquiring.valid_pixels / 8.0, 1.0);
+  EXPECT_EQ(StereoProcessor(o).Process(left, right, g, roi).cloud.xyz.size(), r.cloud.xyz.size());
+  o.median_filter = 3;
+  EXPECT_THROW(StereoProcessor{o}, std::invalid_argument);
+}
+
 TEST(Stereo, PaddedRowsValidWindowAndEmptyRoi) {
   const StereoGeometry g = Geometry();
   const auto [left, right] = PlanesPair(g, 13);

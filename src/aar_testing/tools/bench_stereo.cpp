@@ -15,6 +15,7 @@
 // the points on pixels their blades cover at least half the exposure (issue 16). AAR_DISP12=N
 // runs block matching with its left-right check at N px.
 #include <algorithm>
+#include <cmath>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -72,6 +73,49 @@ Counts Count(const aar_stereo::CloudPoints& cloud, const aar_sim::Image<uint8_t>
 }
 
 }  // namespace
+
+// The sparse matcher (issue 28) on the receiver's box as the node predicts it (grown 2 m, 16 px),
+// searched up to the nearest disparity of the box and, where it crosses, of the boom: its time,
+// its receiver points and the share of its samples where it and block matching (the thesis's,
+// speckle filter on) agree within 1/16 px, of those where either gives a disparity.
+struct SparseRow {
+  double ms = 0, agree = 0;
+  int receiver = 0, stride = 0;
+};
+SparseRow Sparse(const cv::Mat& left, const cv::Mat& right, const aar_stereo::StereoGeometry& g,
+                 const std::vector<Eigen::Vector3d>& receiver,
+                 const std::vector<Eigen::Vector3d>& boom, const aar_stereo::StereoResult& dense,
+                 const aar_sim::Image<uint8_t>& label, int repeats) {
+  aar_stereo::StereoOptions o;
+  o.matcher = aar_stereo::Matcher::kSparse;
+  const aar_stereo::StereoProcessor sparse(o);
+  auto max_disparity = [&](const std::vector<Eigen::Vector3d>& points) {
+    double z = 1e18;
+    for (const auto& p : points) z = std::min(z, p.z());
+    return static_cast<int>(std::ceil(g.fx * g.baseline() / z)) + 1;
+  };
+  const cv::Rect roi = aar_stereo::ProjectedRoi(receiver, g, 16);
+  const std::vector<aar_stereo::DisparityZone> zones = {
+      {roi, max_disparity(receiver)},
+      {aar_stereo::ProjectedRoi(boom, g, 16), max_disparity(boom)}};
+  const aar_stereo::StereoResult r = sparse.Process(left, right, g, roi, zones);
+  SparseRow row;
+  row.ms = aar_testing::MedianMs(repeats, [&] { sparse.Process(left, right, g, roi, zones); });
+  row.receiver = Count(r.cloud, label).receiver;
+  row.stride = r.samples.stride;
+  int either = 0, agree = 0;
+  const int s = r.samples.stride;
+  for (int v = roi.y - roi.y % s; v < roi.y + roi.height; v += s)
+    for (int u = roi.x - roi.x % s; u < roi.x + roi.width; u += s) {
+      if (!roi.contains(cv::Point(u, v))) continue;
+      const float a = r.disparity.at<float>(v, u), b = dense.disparity.at<float>(v, u);
+      if (a < 0 && b < 0) continue;
+      ++either;
+      agree += a >= 0 && b >= 0 && std::abs(a - b) <= 1.0f / 16 + 1e-4f;
+    }
+  row.agree = either > 0 ? static_cast<double>(agree) / either : 1.0;
+  return row;
+}
 
 int main(int argc, char** argv) {
   const int frames = argc > 1 ? std::stoi(argv[1]) : 12;
@@ -138,11 +182,14 @@ int main(int argc, char** argv) {
       out.open(csv);
       out << "t,range_m,receiver_points,boom_points,other_points,aar_stereo_ms,stereo_image_proc_"
              "ms,roi_ms,"
-             "roi_fraction,receiver_valid_full,receiver_valid_roi\n";
+             "roi_fraction,receiver_valid_full,receiver_valid_roi,sparse_ms,sparse_receiver_points,"
+             "sparse_stride,sparse_agree_bm\n";
     }
-    std::printf("%6s %8s %9s %6s %6s %6s %6s %6s %9s %9s %8s %8s %8s %10s %10s\n", "t[s]",
-                "range[m]", "receiver", "boom", "other", "bg", "far", "prop", "aar[ms]", "sip[ms]",
-                "roi[ms]", "speedup", "roi area", "rcv full", "rcv roi");
+    std::printf(
+        "%6s %8s %9s %6s %6s %6s %6s %6s %9s %9s %8s %8s %8s %10s %10s %10s %10s %6s %8s\n",
+        "t[s]", "range[m]", "receiver", "boom", "other", "bg", "far", "prop", "aar[ms]", "sip[ms]",
+        "roi[ms]", "speedup", "roi area", "rcv full", "rcv roi", "sparse[ms]", "rcv sparse",
+        "stride", "=BM");
     for (int i = 0; i < frames; ++i) {
       const double t =
           path.start_time() + (path.end_time() - path.start_time()) * i / std::max(1, frames - 1);
@@ -175,18 +222,30 @@ int main(int argc, char** argv) {
       const cv::Rect roi = aar_stereo::ProjectedRoi(predicted, g, 16);
       const double roi_ms =
           aar_testing::MedianMs(repeats, [&] { ours.Process(left, right, g, roi); });
-      const Counts full_all = Count(ours_all.Process(left, right, g).cloud, f.left.label);
+      const aar_stereo::StereoResult dense_all = ours_all.Process(left, right, g);
+      const Counts full_all = Count(dense_all.cloud, f.left.label);
+      std::vector<Eigen::Vector3d> receiver;
+      for (const auto& c : aar_stereo::BoxCorners(box, T_optical_tanker * f.T_tanker_receiver, 2.0))
+        receiver.push_back(c);
+      std::vector<Eigen::Vector3d> boom_optical;
+      for (const auto& v : boom.vertices) boom_optical.push_back(T_optical_tanker * v);
+      const SparseRow sparse =
+          Sparse(left, right, g, receiver, boom_optical, dense_all, f.left.label, repeats);
       const Counts roi_all = Count(ours_all.Process(left, right, g, roi).cloud, f.left.label);
       const double area = static_cast<double>(roi.area()) / (k.width * k.height);
 
-      std::printf("%6.1f %8.1f %9d %6d %6d %6d %6d %6d %9.1f %9.1f %8.1f %8.2f %7.1f%% %10d %10d\n",
-                  t, row.position_m.norm(), counts.receiver, counts.boom, counts.other,
-                  counts.background, counts.far, counts.propeller, ours_ms, sip_ms, roi_ms,
-                  ours_ms / roi_ms, 100.0 * area, full_all.receiver, roi_all.receiver);
+      std::printf(
+          "%6.1f %8.1f %9d %6d %6d %6d %6d %6d %9.1f %9.1f %8.1f %8.2f %7.1f%% %10d %10d %10.2f "
+          "%10d %6d %7.1f%%\n",
+          t, row.position_m.norm(), counts.receiver, counts.boom, counts.other, counts.background,
+          counts.far, counts.propeller, ours_ms, sip_ms, roi_ms, ours_ms / roi_ms, 100.0 * area,
+          full_all.receiver, roi_all.receiver, sparse.ms, sparse.receiver, sparse.stride,
+          100.0 * sparse.agree);
       if (out) {
         out << t << ',' << row.position_m.norm() << ',' << counts.receiver << ',' << counts.boom
             << ',' << counts.other << ',' << ours_ms << ',' << sip_ms << ',' << roi_ms << ','
-            << area << ',' << full_all.receiver << ',' << roi_all.receiver << '\n';
+            << area << ',' << full_all.receiver << ',' << roi_all.receiver << ',' << sparse.ms
+            << ',' << sparse.receiver << ',' << sparse.stride << ',' << sparse.agree << '\n';
       }
     }
   } catch (const std::exception& e) {

@@ -9,9 +9,13 @@
 #include <Eigen/Geometry>
 #include <opencv2/core.hpp>
 
+#include "aar_stereo/sparse_matcher.h"
+
 namespace aar_stereo {
 
-enum class Matcher { kBlockMatching, kSemiGlobal };
+// kSparse (issue 28, not in the thesis): block matching's cost at a grid of samples in the region
+// of interest (sparse_matcher.h); a frame without one (acquisition) is block-matched whole.
+enum class Matcher { kBlockMatching, kSemiGlobal, kSparse };
 enum class Decimation { kNone, kEveryNth, kVoxelGrid };
 
 // Matcher and cloud settings. Defaults: the thesis (block 9, 48 disparities, every 8th point,
@@ -35,10 +39,16 @@ struct StereoOptions {
   // before the cloud, against depth scatter (it biases point-to-point ICP towards the cameras:
   // docs/realism/README.md). Pixels without a match stay without one.
   int median_filter = 0;
+  // kSparse: samples per frame (the grid stride is the smallest that keeps to it) and the
+  // left-right check [px] that stands in for the speckle filter (negative: off).
+  int sparse_budget = 4000;
+  int sparse_lr_max_diff = 1;
 
   double max_range = 750.0;  // [m] points farther along the optical axis are dropped
   Decimation decimation = Decimation::kEveryNth;
-  int keep_every = 8;        // kEveryNth: keep valid points 0, n, 2n, ... in row-major order
+  // kEveryNth: keep valid points 0, n, 2n, ... in row-major order (kSparse: on block-matched
+  // frames only; a sample grid is its own decimation)
+  int keep_every = 8;
   double voxel_size = 0.05;  // [m] kVoxelGrid: one point (the centroid) per occupied voxel
   bool organized = false;    // kNone only: a height x width cloud with NaN where invalid
   bool intensity = false;    // carry the left image's grey level per point
@@ -83,6 +93,8 @@ struct StereoResult {
   cv::Rect valid_window;  // where the matcher can produce disparities (roi included)
   CloudPoints cloud;
   int valid_pixels = 0;  // disparity valid and within max_range
+  bool sparse = false;   // matched at samples (kSparse with a region of interest)
+  SparseMatches samples;  // when sparse: the grid and its refusals (pixel lists cleared)
   StereoTimings timings;
 };
 
@@ -107,11 +119,25 @@ class StereoProcessor {
   const StereoOptions& options() const { return options_; }
 
   // Throws std::invalid_argument for images that are empty, not CV_8UC1, of different sizes or
-  // of a size other than the geometry's.
+  // of a size other than the geometry's. `zones` bound the sparse matcher's search (ignored by
+  // the dense matchers).
   StereoResult Process(const cv::Mat& left, const cv::Mat& right, const StereoGeometry& geometry,
-                       const std::optional<cv::Rect>& roi = std::nullopt) const;
+                       const std::optional<cv::Rect>& roi = std::nullopt,
+                       const std::vector<DisparityZone>& zones = {}) const;
 
  private:
+  // Dense matching of `roi` into result->disparity (float, shifted for the principal points).
+  void MatchDense(const cv::Mat& left, const cv::Mat& right, const cv::Rect& roi, float shift,
+                  StereoResult* result) const;
+  // Sparse matching of `roi`; returns the matched pixels, the disparity image holding them.
+  std::vector<int> MatchAtSamples(const cv::Mat& left, const cv::Mat& right, const cv::Rect& roi,
+                                  const std::vector<DisparityZone>& zones, float shift,
+                                  StereoResult* result) const;
+  void Decimate(const cv::Mat& left, const std::vector<Eigen::Vector3f>& points,
+                const std::vector<int>& pixels, bool sparse, CloudPoints* cloud) const;
+  void VoxelGrid(const cv::Mat& left, const std::vector<Eigen::Vector3f>& points,
+                 const std::vector<int>& pixels, CloudPoints* cloud) const;
+
   StereoOptions options_;
 };
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 #include <aar_geometry/mesh_io.h>
@@ -44,6 +45,7 @@ StereoNode::StereoNode(ros::NodeHandle nh, ros::NodeHandle private_nh,
   }
   // Process-wide: in a nodelet manager it applies to every OpenCV call of every nodelet.
   if (options_.opencv_threads >= 0) cv::setNumThreads(options_.opencv_threads);
+  stage_ = std::make_unique<aar_ros_common::NewestWins<Pair>>([this](Pair& p) { Match(p); });
   reconfigure_.setCallback(
       [this](StereoConfig& config, uint32_t level) { OnReconfigure(config, level); });
   if (options_.approximate_sync) {
@@ -85,12 +87,13 @@ StereoNode::StereoNode(ros::NodeHandle nh, ros::NodeHandle private_nh,
 }
 
 StereoNode::~StereoNode() {
-  // Inputs and timer first: no callback may run into members being destroyed.
+  // Inputs, timer and matching thread first: nothing may run into members being destroyed.
   input_timer_.stop();
   left_sub_.unsubscribe();
   left_info_sub_.unsubscribe();
   right_sub_.unsubscribe();
   right_info_sub_.unsubscribe();
+  stage_->Stop();
 }
 
 void StereoNode::Connect() {
@@ -169,6 +172,19 @@ void StereoNode::OnFrame(const Image::ConstPtr& left, const Info::ConstPtr& left
       ROS_WARN_STREAM(what << " (" << order_.dropped() << " dropped so far)");
     return;
   }
+  if (stage_->Put(Pair{left, right, left_info, right_info})) {
+    ++superseded_;
+    ROS_WARN_STREAM_THROTTLE(5.0, "stereo: a pair arrived while the previous one still waited "
+                                  "for matching: the older one skipped, the newest wins ("
+                                      << superseded_ << " superseded so far)");
+  }
+}
+
+void StereoNode::Match(Pair& pair) {
+  const Image::ConstPtr& left = pair.left;
+  const Image::ConstPtr& right = pair.right;
+  const Info::ConstPtr& left_info = pair.left_info;
+  const Info::ConstPtr& right_info = pair.right_info;
   // Behind real time: a pair that waited too long is dropped, so that the next one is fresh.
   if (options_.max_frame_age > 0.0) {
     const double age = (ros::Time::now() - left->header.stamp).toSec();
@@ -189,13 +205,14 @@ void StereoNode::OnFrame(const Image::ConstPtr& left, const Info::ConstPtr& left
     std::lock_guard<std::mutex> lock(mutex_);
     if (!processor_) return;
     std::string why;
-    std::optional<cv::Rect> roi;
+    FrameRegion region;
     try {
-      roi = Roi(left->header, geometry, &why);
+      region = Roi(left->header, geometry, &why);
     } catch (const std::exception& e) {  // a region of interest is an optimisation: match all
       why = e.what();
     }
-    const StereoResult result = processor_->Process(l, r, geometry, roi);
+    const std::optional<cv::Rect>& roi = region.roi;
+    const StereoResult result = processor_->Process(l, r, geometry, roi, region.zones);
     std_msgs::Header header = left->header;
     if (disparity_pub_.getNumSubscribers() > 0) {
       disparity_pub_.publish(
@@ -213,6 +230,7 @@ void StereoNode::OnFrame(const Image::ConstPtr& left, const Info::ConstPtr& left
       last_roi_fraction_ =
           roi ? static_cast<double>(roi->area()) / (geometry.width * geometry.height) : 1.0;
       last_roi_why_ = why;
+      if (result.sparse) last_samples_ = result.samples;
     }
     ROS_DEBUG_STREAM("stereo: frame " << header.stamp << ": " << result.cloud.xyz.size()
                                       << " points; matching " << result.timings.matching_ms
@@ -255,9 +273,22 @@ void StereoNode::WarnIfDistorted(const Info& left, const Info& right) {
                 << distorted_ << " such pairs so far");
 }
 
-std::optional<cv::Rect> StereoNode::Roi(const std_msgs::Header& header,
-                                        const StereoGeometry& geometry, std::string* why) {
-  if (!options_.roi.enabled) return std::nullopt;
+namespace {
+
+// The largest disparity [px, matcher units] of anything at `points` (left optical frame [m]): the
+// nearest one's, plus a pixel; the full range if one is not in front of the cameras.
+int MaxDisparity(const std::vector<Eigen::Vector3d>& points, const StereoGeometry& g) {
+  double z_min = 1e18;
+  for (const auto& p : points) z_min = std::min(z_min, p.z());
+  if (!(z_min > 0.0)) return std::numeric_limits<int>::max();
+  return static_cast<int>(std::ceil(g.fx * g.baseline() / z_min + (g.cx_left - g.cx_right))) + 1;
+}
+
+}  // namespace
+
+FrameRegion StereoNode::Roi(const std_msgs::Header& header, const StereoGeometry& geometry,
+                            std::string* why) {
+  if (!options_.roi.enabled) return {};
   const StereoRoiOptions& o = options_.roi;
   // In lockstep the previous frame's estimate is on its way; waiting for it makes runs repeatable.
   if (previous_stamp_ && o.estimate_wait > 0.0 && header.stamp > *previous_stamp_)
@@ -266,29 +297,43 @@ std::optional<cv::Rect> StereoNode::Roi(const std_msgs::Header& header,
   const auto predicted = estimates_->Predict(header.stamp, o.estimate_max_age);
   if (!predicted || !predicted->tracking) {
     *why = "no tracked estimate within estimate_max_age";
-    return std::nullopt;
+    return {};
   }
   const auto T_tanker_optical =
       aar_ros_common::LookupTransform(*tf_buffer_, o.frames.tanker, header.frame_id, header.stamp,
                                       o.tf_timeout, "the images' stamp", why);
-  if (!T_tanker_optical) return std::nullopt;
+  if (!T_tanker_optical) return {};
   const Eigen::Isometry3d T_optical_tanker = T_tanker_optical->inverse();
-  std::vector<Eigen::Vector3d> bounds =
+  const std::vector<Eigen::Vector3d> receiver =
       BoxCorners(receiver_box_, T_optical_tanker * predicted->T_tanker_receiver, o.receiver_margin);
+  std::vector<Eigen::Vector3d> boom;
   if (boom_) {
     std::map<std::string, Eigen::Isometry3d> T_tanker_links;
     for (const auto& link : boom_->links) {
       const auto T =
           aar_ros_common::LookupTransform(*tf_buffer_, o.frames.tanker, link.name, header.stamp,
                                           o.tf_timeout, "the images' stamp", why);
-      if (!T) return std::nullopt;
+      if (!T) return {};
       T_tanker_links[link.name] = *T;
     }
-    const auto boom =
+    const auto mesh =
         aar_geometry::RobotMesh(*boom_, T_tanker_links, aar_geometry::GeometryKind::kCollision);
-    for (const auto& v : boom.vertices) bounds.push_back(T_optical_tanker * v);
+    for (const auto& v : mesh.vertices) boom.push_back(T_optical_tanker * v);
   }
-  return ProjectedRoi(bounds, geometry, o.margin);
+  FrameRegion region;
+  if (processor_->options().matcher == Matcher::kSparse) {
+    // Samples on the receiver only (the boom's points are culled downstream); searched up to the
+    // nearest of the receiver's box and, where the boom crosses it, of the boom.
+    region.roi = ProjectedRoi(receiver, geometry, o.margin);
+    region.zones.push_back({*region.roi, MaxDisparity(receiver, geometry)});
+    if (!boom.empty())
+      region.zones.push_back({ProjectedRoi(boom, geometry, o.margin), MaxDisparity(boom, geometry)});
+    return region;
+  }
+  std::vector<Eigen::Vector3d> bounds = receiver;
+  bounds.insert(bounds.end(), boom.begin(), boom.end());
+  region.roi = ProjectedRoi(bounds, geometry, o.margin);
+  return region;
 }
 
 void StereoNode::CheckInputs(const ros::WallTimerEvent&) {
@@ -328,6 +373,8 @@ void StereoNode::Diagnose(diagnostic_updater::DiagnosticStatusWrapper& status) {
   status.add("frames dropped as stale (max_frame_age)", static_cast<uint64_t>(stale_));
   status.add("pairs dropped as out of order", order_.dropped());
   status.add("pairs dropped, halves apart (max_pair_skew)", static_cast<uint64_t>(skewed_));
+  status.add("pairs superseded by a newer pair (skipped while matching)",
+             static_cast<uint64_t>(superseded_));
   if (!options_.rectified_upstream)
     status.add("pairs with distorted camera infos (unrectified?)",
                static_cast<uint64_t>(distorted_));
@@ -340,6 +387,15 @@ void StereoNode::Diagnose(diagnostic_updater::DiagnosticStatusWrapper& status) {
     status.add("frames matched in a region of interest", roi_frames_);
     status.add("matched fraction of the image (last frame)", last_roi_fraction_);
     status.add("why the last frame was matched whole", last_roi_why_);
+  }
+  if (last_samples_.stride > 0) {
+    status.add("sparse: grid stride [px] (last frame)", last_samples_.stride);
+    status.add("sparse: samples (last frame)", last_samples_.samples);
+    status.add("sparse: untextured / ambiguous / at the predicted bound / left-right refused",
+               std::to_string(last_samples_.untextured) + " / " +
+                   std::to_string(last_samples_.ambiguous) + " / " +
+                   std::to_string(last_samples_.at_bound) + " / " +
+                   std::to_string(last_samples_.inconsistent));
   }
 }
 

@@ -42,12 +42,19 @@ void CheckReconfigurableSettings(const aar_ros_common::ParamReader& params) {
   }
   const StereoConfig c = LoadStereoConfig(params);
   params.Check(c.block_size % 2 == 1, "block_size", "must be odd");
-  params.Check(c.matcher != Stereo_block_matching || c.block_size >= 5, "block_size",
+  params.Check(c.matcher == Stereo_semi_global || c.block_size >= 5, "block_size",
                "must be at least 5 for block matching");
   params.Check(c.prefilter_size % 2 == 1, "prefilter_size", "must be odd");
   params.Check(c.num_disparities % 16 == 0, "num_disparities", "must be a multiple of 16");
   params.Check(!c.organized || c.decimation == Stereo_none, "organized",
                "needs decimation none (a decimated cloud has no image shape)");
+  // What the matcher itself refuses (e.g. the sparse matcher's 128 disparities), named at start-up.
+  StereoConfig adjusted = c;
+  try {
+    StereoProcessor processor(ToStereoOptions(adjusted));
+  } catch (const std::invalid_argument& e) {
+    params.Check(false, "matcher", std::string("settings refused: ") + e.what());
+  }
 }
 
 }  // namespace
@@ -119,11 +126,15 @@ StereoConfig LoadStereoConfig(const aar_ros_common::ParamReader& params) {
 
 StereoOptions ToStereoOptions(StereoConfig& c) {
   c.block_size |= 1;  // odd
-  if (c.matcher == Stereo_block_matching && c.block_size < 5) c.block_size = 5;
+  if (c.matcher != Stereo_semi_global && c.block_size < 5) c.block_size = 5;
   c.prefilter_size |= 1;
   c.num_disparities = ((c.num_disparities + 15) / 16) * 16;
   StereoOptions o;
-  o.matcher = c.matcher == Stereo_semi_global ? Matcher::kSemiGlobal : Matcher::kBlockMatching;
+  o.matcher = c.matcher == Stereo_semi_global ? Matcher::kSemiGlobal
+              : c.matcher == Stereo_sparse    ? Matcher::kSparse
+                                              : Matcher::kBlockMatching;
+  o.sparse_budget = c.sparse_budget;
+  o.sparse_lr_max_diff = c.sparse_lr_max_diff;
   o.block_size = c.block_size;
   o.num_disparities = c.num_disparities;
   o.min_disparity = c.min_disparity;

@@ -5,6 +5,7 @@
 #include <aar_ros_common/error_throttle.h>
 #include <aar_ros_common/estimate_listener.h>
 #include <aar_ros_common/frames.h>
+#include <aar_ros_common/newest_wins.h>
 #include <aar_ros_common/param_reader.h>
 #include <aar_ros_common/stamp_order.h>
 #include <atomic>
@@ -82,8 +83,16 @@ StereoConfig LoadStereoConfig(const aar_ros_common::ParamReader& params);
 // used back into `config` so the user sees them.
 StereoOptions ToStereoOptions(StereoConfig& config);
 
+// Where a frame is matched: the region of interest (none: the whole image) and, for the sparse
+// matcher, the disparity bounds of the predicted receiver and of the boom.
+struct FrameRegion {
+  std::optional<cv::Rect> roi;
+  std::vector<DisparityZone> zones;
+};
+
 // Subscribes (lazily) to left/ and right/ image_rect + camera_info in its namespace, publishes
-// disparity and points2 (in the left optical frame).
+// disparity and points2 (in the left optical frame). Pairs are matched on a thread of their own,
+// one at a time: a pair that arrives while another waits replaces it (counted on /diagnostics).
 class StereoNode {
  public:
   StereoNode(ros::NodeHandle nh, ros::NodeHandle private_nh, const StereoNodeOptions& options);
@@ -97,15 +106,20 @@ class StereoNode {
       message_filters::sync_policies::ApproximateTime<Image, Info, Image, Info>;
 
   void Connect();
+  struct Pair {
+    Image::ConstPtr left, right;
+    Info::ConstPtr left_info, right_info;
+  };
   void OnFrame(const Image::ConstPtr& left, const Info::ConstPtr& left_info,
                const Image::ConstPtr& right, const Info::ConstPtr& right_info);
+  void Match(Pair& pair);
   void OnReconfigure(StereoConfig& config, uint32_t level);
   void WarnIfDistorted(const Info& left, const Info& right);
   void CheckInputs(const ros::WallTimerEvent&);
   void Diagnose(diagnostic_updater::DiagnosticStatusWrapper& status);
   // The region of interest for a frame, or none (whole image) with `why` saying why.
-  std::optional<cv::Rect> Roi(const std_msgs::Header& header, const StereoGeometry& geometry,
-                              std::string* why);
+  FrameRegion Roi(const std_msgs::Header& header, const StereoGeometry& geometry,
+                  std::string* why);
 
   ros::NodeHandle nh_, private_nh_;
   StereoNodeOptions options_;
@@ -129,7 +143,7 @@ class StereoNode {
   ros::WallTimer input_timer_;
 
   diagnostic_updater::Updater diagnostics_;
-  std::atomic<uint64_t> frames_{0}, skipped_{0}, stale_{0}, skewed_{0};
+  std::atomic<uint64_t> frames_{0}, skipped_{0}, stale_{0}, skewed_{0}, superseded_{0};
   std::atomic<uint64_t> distorted_{0};  // pairs whose camera infos had a non-zero D
   aar_ros_common::StampOrder order_;    // pairs are taken in stamp order
   std::mutex stats_mutex_;
@@ -138,6 +152,7 @@ class StereoNode {
   std::string last_error_;
   uint64_t reported_frames_ = 0, reported_skipped_ = 0;  // at the previous diagnostics report
   aar_ros_common::ErrorThrottle errors_;
+  SparseMatches last_samples_;  // the sparse matcher's last grid and refusals
 
   // Region of interest (options_.roi.enabled)
   std::unique_ptr<tf2_ros::Buffer> tf_buffer_;
@@ -149,6 +164,9 @@ class StereoNode {
   uint64_t roi_frames_ = 0;  // frames matched in a region of interest (stats_mutex_)
   double last_roi_fraction_ = 1.0;
   std::string last_roi_why_;  // why the last frame was matched whole
+
+  // Last: the matching thread (stopped first in the destructor) uses the members above.
+  std::unique_ptr<aar_ros_common::NewestWins<Pair>> stage_;
 };
 
 }  // namespace aar_stereo
