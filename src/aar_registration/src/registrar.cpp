@@ -59,20 +59,26 @@ size_t Registrar::BuildStaticReference(const aar_geometry::TriangleMesh& receive
     throw std::runtime_error("reference model has only " + std::to_string(cloud.size()) +
                              " points");
   reference_points_ = cloud.points;
+  reference_normals_ = cloud.normals;
   icp_.SetTarget(cloud.points, cloud.normals);
   return cloud.size();
 }
 
-void Registrar::SetReference(std::vector<Eigen::Vector3d> points,
+bool Registrar::SetReference(std::vector<Eigen::Vector3d> points,
                              std::vector<Eigen::Vector3d> normals) {
+  if (icp_.has_target() && points == reference_points_ && normals == reference_normals_)
+    return false;  // the same reference: its k-d tree stays
   icp_ = Icp(options_.icp);  // no stale target, whatever happens below
   reference_points_.clear();
+  reference_normals_.clear();
   if (points.size() < 10) {
     throw std::invalid_argument("reference cloud has " + std::to_string(points.size()) +
                                 " usable points");
   }
-  icp_.SetTarget(points, std::move(normals));  // point-to-plane refuses a target without normals
+  icp_.SetTarget(points, normals);  // point-to-plane refuses a target without normals
   reference_points_ = std::move(points);
+  reference_normals_ = std::move(normals);
+  return true;
 }
 
 void Registrar::SetOutlineModel(const aar_geometry::TriangleMesh& receiver) {

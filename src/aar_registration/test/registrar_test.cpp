@@ -145,8 +145,15 @@ TEST(Registrar, MissesSayWhy) {
 
   const auto dense =
       aar_geometry::SampleReceiver(Receiver(), aar_geometry::ReferenceModelOptions{});
-  registrar.SetReference(dense.points, dense.normals);
+  EXPECT_TRUE(registrar.SetReference(dense.points, dense.normals));
   ASSERT_TRUE(registrar.has_reference());
+  // The same reference again (the boom hid nothing new) keeps its k-d tree; another builds one.
+  EXPECT_FALSE(registrar.SetReference(dense.points, dense.normals));
+  auto fewer = dense;
+  fewer.points.pop_back();
+  fewer.normals.pop_back();
+  EXPECT_TRUE(registrar.SetReference(fewer.points, fewer.normals));
+  EXPECT_TRUE(registrar.SetReference(dense.points, dense.normals));
   r = registrar.Register({f.sensed.begin(), f.sensed.begin() + 5}, 1.0);
   EXPECT_FALSE(r.valid);
   EXPECT_EQ(r.error, "cloud has 5 finite points, too few to register");

@@ -158,8 +158,9 @@ class Registrar {
 
   // This frame's reference (receiver frame), normals optional (point-to-plane needs them).
   // Throws std::invalid_argument for fewer than 10 points or a target ICP refuses; the previous
-  // reference is gone either way, so a frame never registers to a stale one.
-  void SetReference(std::vector<Eigen::Vector3d> points, std::vector<Eigen::Vector3d> normals);
+  // reference is gone either way, so a frame never registers to a stale one. A reference equal to
+  // the current one (the boom hides nothing new) keeps its k-d tree: returns false then.
+  bool SetReference(std::vector<Eigen::Vector3d> points, std::vector<Eigen::Vector3d> normals);
   bool has_reference() const { return icp_.has_target(); }
 
   // The receiver mesh for the outline (options.outline.enabled); throws std::invalid_argument
@@ -207,6 +208,7 @@ class Registrar {
   std::unique_ptr<aar_alignment::OutlineAligner> aligner_;
   int poor_outline_frames_ = 0;
   std::vector<Eigen::Vector3d> reference_points_;                 // receiver frame
+  std::vector<Eigen::Vector3d> reference_normals_;                // SetReference's, if any
   std::optional<std::pair<double, Eigen::Isometry3d>> previous_;  // stamp [s], T_tanker_receiver
   Tracker tracker_;
 };

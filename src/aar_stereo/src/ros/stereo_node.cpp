@@ -286,6 +286,19 @@ int MaxDisparity(const std::vector<Eigen::Vector3d>& points, const StereoGeometr
 
 }  // namespace
 
+std::optional<Eigen::Isometry3d> StereoNode::Transform(const std::string& target,
+                                                      const std::string& source,
+                                                      const ros::Time& stamp, std::string* why) {
+  const StereoRoiOptions& o = options_.roi;
+  auto T = aar_ros_common::LookupTransform(*tf_buffer_, target, source, stamp, o.tf_timeout,
+                                           "the images' stamp", why);
+  if (!T && o.tf_fallback_age > 0.0) {
+    T = aar_ros_common::LatestTransform(*tf_buffer_, target, source, stamp, o.tf_fallback_age);
+    if (T) why->clear();
+  }
+  return T;
+}
+
 FrameRegion StereoNode::Roi(const std_msgs::Header& header, const StereoGeometry& geometry,
                             std::string* why) {
   if (!options_.roi.enabled) return {};
@@ -299,9 +312,7 @@ FrameRegion StereoNode::Roi(const std_msgs::Header& header, const StereoGeometry
     *why = "no tracked estimate within estimate_max_age";
     return {};
   }
-  const auto T_tanker_optical =
-      aar_ros_common::LookupTransform(*tf_buffer_, o.frames.tanker, header.frame_id, header.stamp,
-                                      o.tf_timeout, "the images' stamp", why);
+  const auto T_tanker_optical = Transform(o.frames.tanker, header.frame_id, header.stamp, why);
   if (!T_tanker_optical) return {};
   const Eigen::Isometry3d T_optical_tanker = T_tanker_optical->inverse();
   const std::vector<Eigen::Vector3d> receiver =
@@ -310,9 +321,7 @@ FrameRegion StereoNode::Roi(const std_msgs::Header& header, const StereoGeometry
   if (boom_) {
     std::map<std::string, Eigen::Isometry3d> T_tanker_links;
     for (const auto& link : boom_->links) {
-      const auto T =
-          aar_ros_common::LookupTransform(*tf_buffer_, o.frames.tanker, link.name, header.stamp,
-                                          o.tf_timeout, "the images' stamp", why);
+      const auto T = Transform(o.frames.tanker, link.name, header.stamp, why);
       if (!T) return {};
       T_tanker_links[link.name] = *T;
     }

@@ -85,6 +85,7 @@ StereoNodeOptions LoadStereoNodeOptions(aar_ros_common::ParamReader& params) {
   params.Check(roi.estimate_max_age > 0.0, "estimate_max_age", "must be > 0 [s]");
   roi.estimate_wait = params.GetNonNegative("estimate_wait", roi.estimate_wait);
   roi.tf_timeout = params.GetNonNegative("tf_timeout", roi.tf_timeout);
+  roi.tf_fallback_age = params.GetNonNegative("tf_fallback_age", roi.tf_fallback_age);
   roi.robot_description = params.Get("robot_description", roi.robot_description);
   roi.receiver = aar_ros_common::LoadReceiver(params);
   roi.frames = aar_ros_common::LoadStackFrames(params);

@@ -44,6 +44,10 @@ struct StereoRoiOptions {
   // [s wall] wait for the previous frame's estimate (repeatable lockstep runs; 0 in real time).
   double estimate_wait = 0.2;
   double tf_timeout = 0.05;  // [s wall] for the camera's and the boom links' tf
+  // [s] > 0: when tf has nothing at the images' stamp yet (after tf_timeout), the latest transform
+  // at most this much older is used: a region of interest needs no exact boom pose, and waiting
+  // for tf that comes through a relay cost real-time replays ~25 ms a frame. 0: off (lockstep).
+  double tf_fallback_age = 0.0;
   aar_description::ReceiverDescription receiver;        // ~receiver (default: the C-12)
   std::string robot_description = "robot_description";  // parameter holding the boom's URDF
   aar_ros_common::StackFrames frames;
@@ -120,6 +124,9 @@ class StereoNode {
   // The region of interest for a frame, or none (whole image) with `why` saying why.
   FrameRegion Roi(const std_msgs::Header& header, const StereoGeometry& geometry,
                   std::string* why);
+  // T_target_source at `stamp` (tf_timeout), else the latest within tf_fallback_age.
+  std::optional<Eigen::Isometry3d> Transform(const std::string& target, const std::string& source,
+                                             const ros::Time& stamp, std::string* why);
 
   ros::NodeHandle nh_, private_nh_;
   StereoNodeOptions options_;
