@@ -67,7 +67,7 @@ size_t Registrar::BuildStaticReference(const aar_geometry::TriangleMesh& receive
 bool Registrar::SetReference(std::vector<Eigen::Vector3d> points,
                              std::vector<Eigen::Vector3d> normals) {
   if (icp_.has_target() && points == reference_points_ && normals == reference_normals_)
-    return false;  // the same reference: its k-d tree stays
+    return false;            // the same reference: its k-d tree stays
   icp_ = Icp(options_.icp);  // no stale target, whatever happens below
   reference_points_.clear();
   reference_normals_.clear();

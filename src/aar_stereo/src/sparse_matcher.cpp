@@ -12,7 +12,7 @@
 namespace aar_stereo {
 namespace {
 
-constexpr int kMaxBlocks = 8;  // 16 disparities each: 128 at most
+constexpr int kMaxBlocks = 8;                // 16 disparities each: 128 at most
 constexpr int kPad = 16 * kMaxBlocks + 256;  // [px] right of the image: whole-vector loads
 
 void Check(bool ok, const std::string& what) {
@@ -45,8 +45,8 @@ Prefiltered& Buffers(const cv::Size& size) {
 
 // costs[k] (k < n) = sum over the block around (xf, y) of |fixed - moving shifted by xm - xf + k|:
 // the block matching cost, one disparity per vector lane.
-void BlockCosts(const cv::Mat& fixed, int xf, const cv::Mat& moving, int xm, int y, int half,
-                int n, uint16_t* costs) {
+void BlockCosts(const cv::Mat& fixed, int xf, const cv::Mat& moving, int xm, int y, int half, int n,
+                uint16_t* costs) {
   const int blocks = (n + 15) / 16;
   cv::v_uint16x8 sums[2 * kMaxBlocks];
   for (int b = 0; b < 2 * blocks; ++b) sums[b] = cv::v_setzero_u16();
@@ -88,8 +88,7 @@ enum class Verdict { kMatched, kAmbiguous, kAtBound };
 // the larger disparity wins a tie): uniqueness outside the minimum's neighbours, then parabolic
 // subpixel interpolation when the minimum has both neighbours. A minimum on the top lane when the
 // search was cut short there is refused.
-Verdict Decide(const uint16_t* costs, int n, int top, int uniqueness, bool open_top,
-               int16_t* d16) {
+Verdict Decide(const uint16_t* costs, int n, int top, int uniqueness, bool open_top, int16_t* d16) {
   const int k = FirstMinimum(costs, n);
   if (uniqueness > 0) {
     const int threshold = costs[k] + costs[k] * uniqueness / 100;
@@ -185,10 +184,9 @@ SparseMatches MatchSparse(const cv::Mat& left, const cv::Mat& right, const cv::R
   const Range all{o.min_disparity, o.min_disparity + o.num_disparities - 1};
   // What the samples' blocks and searches (both directions) read.
   const int reach = all.hi + half + 1;
-  const cv::Rect need =
-      cv::Rect(window.x - reach, window.y - half, window.width + 2 * reach,
-               window.height + 2 * half) &
-      full;
+  const cv::Rect need = cv::Rect(window.x - reach, window.y - half, window.width + 2 * reach,
+                                 window.height + 2 * half) &
+                        full;
   Prefiltered& p = Buffers(left.size());
   Prefilter(left, need, o.prefilter_cap, p.left);
   Prefilter(right, need, o.prefilter_cap, p.right);

@@ -154,8 +154,7 @@ cv::Rect MatchWindow(const cv::Rect& roi, const cv::Rect& full, const StereoOpti
                    full;
   // OpenCV refuses images smaller than the block: grow a window clipped at a corner.
   if (match.width < o.block_size)
-    match.x = std::max(0, std::min(match.x, full.width - o.block_size)),
-    match.width = o.block_size;
+    match.x = std::max(0, std::min(match.x, full.width - o.block_size)), match.width = o.block_size;
   if (match.height < o.block_size)
     match.y = std::max(0, std::min(match.y, full.height - o.block_size)),
     match.height = o.block_size;
@@ -325,9 +324,8 @@ void StereoProcessor::Decimate(const cv::Mat& left, const std::vector<Eigen::Vec
   if (o.decimation == Decimation::kVoxelGrid) {
     VoxelGrid(left, points, pixel_of_point, &cloud);
   } else {
-    const size_t step = o.decimation == Decimation::kEveryNth && !sparse
-                            ? static_cast<size_t>(o.keep_every)
-                            : 1;
+    const size_t step =
+        o.decimation == Decimation::kEveryNth && !sparse ? static_cast<size_t>(o.keep_every) : 1;
     for (size_t i = 0; i < points.size(); i += step) add(i);
   }
   cloud.width = static_cast<int>(cloud.xyz.size());

@@ -15,8 +15,8 @@
 // the points on pixels their blades cover at least half the exposure (issue 16). AAR_DISP12=N
 // runs block matching with its left-right check at N px.
 #include <algorithm>
-#include <cmath>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -96,8 +96,7 @@ SparseRow Sparse(const cv::Mat& left, const cv::Mat& right, const aar_stereo::St
   };
   const cv::Rect roi = aar_stereo::ProjectedRoi(receiver, g, 16);
   const std::vector<aar_stereo::DisparityZone> zones = {
-      {roi, max_disparity(receiver)},
-      {aar_stereo::ProjectedRoi(boom, g, 16), max_disparity(boom)}};
+      {roi, max_disparity(receiver)}, {aar_stereo::ProjectedRoi(boom, g, 16), max_disparity(boom)}};
   const aar_stereo::StereoResult r = sparse.Process(left, right, g, roi, zones);
   SparseRow row;
   row.ms = aar_testing::MedianMs(repeats, [&] { sparse.Process(left, right, g, roi, zones); });
@@ -185,11 +184,10 @@ int main(int argc, char** argv) {
              "roi_fraction,receiver_valid_full,receiver_valid_roi,sparse_ms,sparse_receiver_points,"
              "sparse_stride,sparse_agree_bm\n";
     }
-    std::printf(
-        "%6s %8s %9s %6s %6s %6s %6s %6s %9s %9s %8s %8s %8s %10s %10s %10s %10s %6s %8s\n",
-        "t[s]", "range[m]", "receiver", "boom", "other", "bg", "far", "prop", "aar[ms]", "sip[ms]",
-        "roi[ms]", "speedup", "roi area", "rcv full", "rcv roi", "sparse[ms]", "rcv sparse",
-        "stride", "=BM");
+    std::printf("%6s %8s %9s %6s %6s %6s %6s %6s %9s %9s %8s %8s %8s %10s %10s %10s %10s %6s %8s\n",
+                "t[s]", "range[m]", "receiver", "boom", "other", "bg", "far", "prop", "aar[ms]",
+                "sip[ms]", "roi[ms]", "speedup", "roi area", "rcv full", "rcv roi", "sparse[ms]",
+                "rcv sparse", "stride", "=BM");
     for (int i = 0; i < frames; ++i) {
       const double t =
           path.start_time() + (path.end_time() - path.start_time()) * i / std::max(1, frames - 1);

@@ -37,14 +37,14 @@ struct SparseMatchOptions {
 };
 
 struct SparseMatches {
-  std::vector<int> pixel;             // row-major left-image pixel of each valid sample
-  std::vector<int16_t> disparity16;   // [1/16 px] as cv::StereoBM's output (before any shift)
-  int stride = 0;                     // [px] of the sample grid
-  int samples = 0;                    // grid pixels in the region and the valid window
-  int untextured = 0;                 // refused: texture below the threshold
-  int ambiguous = 0;                  // refused: a second minimum within the uniqueness ratio
-  int at_bound = 0;                   // refused: the best match on the predicted bound (nearer)
-  int inconsistent = 0;               // refused: left-right check
+  std::vector<int> pixel;            // row-major left-image pixel of each valid sample
+  std::vector<int16_t> disparity16;  // [1/16 px] as cv::StereoBM's output (before any shift)
+  int stride = 0;                    // [px] of the sample grid
+  int samples = 0;                   // grid pixels in the region and the valid window
+  int untextured = 0;                // refused: texture below the threshold
+  int ambiguous = 0;                 // refused: a second minimum within the uniqueness ratio
+  int at_bound = 0;                  // refused: the best match on the predicted bound (nearer)
+  int inconsistent = 0;              // refused: left-right check
 };
 
 // The smallest grid stride s >= 1 with at most `budget` grid pixels in `region`. Grid pixels have

@@ -92,8 +92,8 @@ struct StereoResult {
   cv::Mat disparity;      // CV_32F [px]; invalid pixels hold min_disparity - 1
   cv::Rect valid_window;  // where the matcher can produce disparities (roi included)
   CloudPoints cloud;
-  int valid_pixels = 0;  // disparity valid and within max_range
-  bool sparse = false;   // matched at samples (kSparse with a region of interest)
+  int valid_pixels = 0;   // disparity valid and within max_range
+  bool sparse = false;    // matched at samples (kSparse with a region of interest)
   SparseMatches samples;  // when sparse: the grid and its refusals (pixel lists cleared)
   StereoTimings timings;
 };

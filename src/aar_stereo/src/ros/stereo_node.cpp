@@ -174,9 +174,10 @@ void StereoNode::OnFrame(const Image::ConstPtr& left, const Info::ConstPtr& left
   }
   if (stage_->Put(Pair{left, right, left_info, right_info})) {
     ++superseded_;
-    ROS_WARN_STREAM_THROTTLE(5.0, "stereo: a pair arrived while the previous one still waited "
-                                  "for matching: the older one skipped, the newest wins ("
-                                      << superseded_ << " superseded so far)");
+    ROS_WARN_STREAM_THROTTLE(5.0,
+                             "stereo: a pair arrived while the previous one still waited "
+                             "for matching: the older one skipped, the newest wins ("
+                                 << superseded_ << " superseded so far)");
   }
 }
 
@@ -287,8 +288,8 @@ int MaxDisparity(const std::vector<Eigen::Vector3d>& points, const StereoGeometr
 }  // namespace
 
 std::optional<Eigen::Isometry3d> StereoNode::Transform(const std::string& target,
-                                                      const std::string& source,
-                                                      const ros::Time& stamp, std::string* why) {
+                                                       const std::string& source,
+                                                       const ros::Time& stamp, std::string* why) {
   const StereoRoiOptions& o = options_.roi;
   auto T = aar_ros_common::LookupTransform(*tf_buffer_, target, source, stamp, o.tf_timeout,
                                            "the images' stamp", why);
@@ -336,7 +337,8 @@ FrameRegion StereoNode::Roi(const std_msgs::Header& header, const StereoGeometry
     region.roi = ProjectedRoi(receiver, geometry, o.margin);
     region.zones.push_back({*region.roi, MaxDisparity(receiver, geometry)});
     if (!boom.empty())
-      region.zones.push_back({ProjectedRoi(boom, geometry, o.margin), MaxDisparity(boom, geometry)});
+      region.zones.push_back(
+          {ProjectedRoi(boom, geometry, o.margin), MaxDisparity(boom, geometry)});
     return region;
   }
   std::vector<Eigen::Vector3d> bounds = receiver;

@@ -122,8 +122,7 @@ class StereoNode {
   void CheckInputs(const ros::WallTimerEvent&);
   void Diagnose(diagnostic_updater::DiagnosticStatusWrapper& status);
   // The region of interest for a frame, or none (whole image) with `why` saying why.
-  FrameRegion Roi(const std_msgs::Header& header, const StereoGeometry& geometry,
-                  std::string* why);
+  FrameRegion Roi(const std_msgs::Header& header, const StereoGeometry& geometry, std::string* why);
   // T_target_source at `stamp` (tf_timeout), else the latest within tf_fallback_age.
   std::optional<Eigen::Isometry3d> Transform(const std::string& target, const std::string& source,
                                              const ros::Time& stamp, std::string* why);
