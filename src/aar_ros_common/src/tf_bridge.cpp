@@ -40,4 +40,16 @@ std::optional<Eigen::Isometry3d> LatestTransform(const tf2_ros::Buffer& buffer,
   return tf2::transformToEigen(latest);
 }
 
+std::optional<Eigen::Isometry3d> LookupTransformOrLatest(
+    const tf2_ros::Buffer& buffer, const std::string& target, const std::string& source,
+    const ros::Time& time, double timeout_s, double fallback_age, const std::string& stamp_what,
+    std::string* error) {
+  auto T = LookupTransform(buffer, target, source, time, timeout_s, stamp_what, error);
+  if (!T && fallback_age > 0.0) {
+    T = LatestTransform(buffer, target, source, time, fallback_age);
+    if (T && error) error->clear();
+  }
+  return T;
+}
+
 }  // namespace aar_ros_common

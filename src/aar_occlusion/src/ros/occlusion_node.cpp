@@ -73,8 +73,9 @@ OcclusionNode::~OcclusionNode() {
 
 std::optional<Eigen::Isometry3d> OcclusionNode::Lookup(const std::string& frame,
                                                        const ros::Time& stamp, std::string* error) {
-  return aar_ros_common::LookupTransform(tf_buffer_, options_.frames.tanker, frame, stamp,
-                                         options_.tf_timeout, "the cloud's stamp", error);
+  return aar_ros_common::LookupTransformOrLatest(tf_buffer_, options_.frames.tanker, frame, stamp,
+                                                 options_.tf_timeout, options_.tf_fallback_age,
+                                                 "the cloud's stamp", error);
 }
 
 // The latest estimate as the predicted pose (moved on to `stamp` with extrapolate_estimate), once

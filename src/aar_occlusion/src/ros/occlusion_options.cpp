@@ -43,6 +43,7 @@ OcclusionNodeOptions LoadOcclusionNodeOptions(aar_ros_common::ParamReader& param
   params.Check(step.max_point_range > 0.0, "max_point_range", "must be > 0");
   o.frames = aar_ros_common::LoadStackFrames(params);
   o.tf_timeout = params.GetNonNegative("tf_timeout", o.tf_timeout);
+  o.tf_fallback_age = params.GetNonNegative("tf_fallback_age", o.tf_fallback_age);
   o.estimate_max_age = params.Get("estimate_max_age", o.estimate_max_age);
   o.marker_length = params.Get("marker_length", o.marker_length);
   o.estimate_wait = params.GetNonNegative("estimate_wait", o.estimate_wait);

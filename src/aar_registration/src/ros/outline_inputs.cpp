@@ -17,8 +17,11 @@ constexpr size_t kKeptPairs = 8;
 
 OutlineInputs::OutlineInputs(ros::NodeHandle nh, const tf2_ros::Buffer& tf,
                              const std::string& tanker_frame, const std::string& robot_description,
-                             double tf_timeout)
-    : tf_(tf), tanker_frame_(tanker_frame), tf_timeout_(tf_timeout) {
+                             double tf_timeout, double tf_fallback_age)
+    : tf_(tf),
+      tanker_frame_(tanker_frame),
+      tf_timeout_(tf_timeout),
+      tf_fallback_age_(tf_fallback_age) {
   std::string urdf;
   if (!nh.getParam(robot_description, urdf)) {
     boom_error_ = "no boom URDF in parameter " + nh.resolveName(robot_description);
@@ -112,8 +115,9 @@ std::optional<OutlineFrame> OutlineInputs::Get(const ros::Time& stamp, std::stri
   std::map<std::string, Eigen::Isometry3d> links;
   for (const auto& link : boom_links_) {
     std::string missing;
-    const auto T = aar_ros_common::LookupTransform(tf_, tanker_frame_, link, stamp, tf_timeout_,
-                                                   "the images' stamp", &missing);
+    const auto T = aar_ros_common::LookupTransformOrLatest(
+        tf_, tanker_frame_, link, stamp, tf_timeout_, tf_fallback_age_, "the images' stamp",
+        &missing);
     if (!T) {  // unmasked, the boom's edges would pull the outline
       *error = "the boom cannot be masked: " + missing;
       return std::nullopt;

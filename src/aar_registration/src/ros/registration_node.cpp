@@ -41,7 +41,8 @@ RegistrationNode::RegistrationNode(ros::NodeHandle nh, ros::NodeHandle private_n
   if (options_.registrar.outline.enabled) {
     registrar_.SetOutlineModel(receiver_mesh_);
     outline_ = std::make_unique<OutlineInputs>(nh_, tf_buffer_, options_.frames.tanker,
-                                               options_.robot_description, options_.tf_timeout);
+                                               options_.robot_description, options_.tf_timeout,
+                                               options_.tf_fallback_age);
     outline_pub_ = nh_.advertise<geometry_msgs::PoseWithCovarianceStamped>("aar/outline_pose", 10);
   }
   PublishModels();

@@ -29,4 +29,12 @@ std::optional<Eigen::Isometry3d> LatestTransform(const tf2_ros::Buffer& buffer,
                                                  const std::string& source, const ros::Time& time,
                                                  double max_age);
 
+// LookupTransform, and when that fails and `fallback_age` > 0, LatestTransform within
+// `fallback_age` (error cleared then): for a stage that can use a joint's pose a frame old rather
+// than wait for tf that comes after the data (real time; issue 28). 0: LookupTransform alone.
+std::optional<Eigen::Isometry3d> LookupTransformOrLatest(
+    const tf2_ros::Buffer& buffer, const std::string& target, const std::string& source,
+    const ros::Time& time, double timeout_s, double fallback_age, const std::string& stamp_what,
+    std::string* error);
+
 }  // namespace aar_ros_common

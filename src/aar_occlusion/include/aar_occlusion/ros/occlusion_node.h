@@ -30,6 +30,9 @@ struct OcclusionNodeOptions {
   aar_description::ReceiverDescription receiver;        // ~receiver (default: the C-12)
   aar_ros_common::StackFrames frames;                   // tanker, receiver (estimate), cameras
   double tf_timeout = 0.5;        // [s wall] waiting for the cloud's, cameras' and links' tf
+  // [s] > 0: when tf has nothing at the cloud's stamp after tf_timeout, the latest at most this
+  // much older (the boom's joints a frame old rather than a wait for their tf; real time). 0: off.
+  double tf_fallback_age = 0.0;
   double estimate_max_age = 1.0;  // [s] an older estimate is not used as the predicted pose
   // [s wall] how long to wait for the estimate of the previous cloud (tf tanker -> receiver at
   // its stamp): in lockstep it is on its way, and waiting makes runs repeatable.

@@ -27,7 +27,8 @@ namespace aar_registration {
 class OutlineInputs {
  public:
   OutlineInputs(ros::NodeHandle nh, const tf2_ros::Buffer& tf, const std::string& tanker_frame,
-                const std::string& robot_description, double tf_timeout);
+                const std::string& robot_description, double tf_timeout,
+                double tf_fallback_age);
   ~OutlineInputs();
 
   // The frame at `stamp`; nullopt with the reason when its images have not come (or are not
@@ -53,6 +54,7 @@ class OutlineInputs {
   const tf2_ros::Buffer& tf_;
   std::string tanker_frame_;
   double tf_timeout_;
+  double tf_fallback_age_;  // [s] the boom links' latest tf when the images' has not come
   message_filters::Subscriber<sensor_msgs::Image> left_sub_, right_sub_;
   message_filters::Subscriber<sensor_msgs::CameraInfo> left_info_sub_, right_info_sub_;
   using Sync = message_filters::TimeSynchronizer<sensor_msgs::Image, sensor_msgs::CameraInfo,

@@ -34,6 +34,9 @@ struct RegistrationNodeOptions {
   aar_ros_common::StackFrames frames;             // tanker, receiver (estimate), cameras
   std::string truth_frame = "receiver_truth";     // only for the rviz model at truth
   double tf_timeout = 0.5;  // [s wall] waiting for the sensed cloud's transform
+  // [s] > 0: the outline's boom mask from the links' latest tf at most this much older when the
+  // images' own has not come after tf_timeout (real time). 0: off.
+  double tf_fallback_age = 0.0;
   // [s wall] reference: topic: a cloud without a reference of its stamp this long is answered
   // with an invalid estimate.
   double reference_timeout = 2.0;
