@@ -25,19 +25,19 @@ TEST(TfBridge, LookupOrLatestFallsBackOnlyWithinItsAge) {
   buffer.setTransform(Boom(1.0333, 2.5), "test");
   const ros::Time stamp(1.0666);
   std::string error;
-  EXPECT_FALSE(LookupTransformOrLatest(buffer, "tanker", "boom", stamp, 0.0, 0.0, "the stamp",
-                                       &error));
+  EXPECT_FALSE(
+      LookupTransformOrLatest(buffer, "tanker", "boom", stamp, 0.0, 0.0, "the stamp", &error));
   EXPECT_NE(error.find("boom"), std::string::npos) << error;
   const auto latest =
       LookupTransformOrLatest(buffer, "tanker", "boom", stamp, 0.0, 0.1, "the stamp", &error);
   ASSERT_TRUE(latest);
   EXPECT_DOUBLE_EQ(latest->translation().x(), 2.5);
   EXPECT_TRUE(error.empty()) << error;
-  EXPECT_FALSE(LookupTransformOrLatest(buffer, "tanker", "boom", stamp, 0.0, 0.02, "the stamp",
-                                       &error));
+  EXPECT_FALSE(
+      LookupTransformOrLatest(buffer, "tanker", "boom", stamp, 0.0, 0.02, "the stamp", &error));
   // At a stamp tf has, the exact (interpolated) transform, fallback or not.
-  const auto exact = LookupTransformOrLatest(buffer, "tanker", "boom", ros::Time(1.01665), 0.0,
-                                             0.1, "the stamp", &error);
+  const auto exact = LookupTransformOrLatest(buffer, "tanker", "boom", ros::Time(1.01665), 0.0, 0.1,
+                                             "the stamp", &error);
   ASSERT_TRUE(exact);
   EXPECT_NEAR(exact->translation().x(), 2.25, 1e-6);
 }

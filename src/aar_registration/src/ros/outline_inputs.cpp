@@ -115,9 +115,9 @@ std::optional<OutlineFrame> OutlineInputs::Get(const ros::Time& stamp, std::stri
   std::map<std::string, Eigen::Isometry3d> links;
   for (const auto& link : boom_links_) {
     std::string missing;
-    const auto T = aar_ros_common::LookupTransformOrLatest(
-        tf_, tanker_frame_, link, stamp, tf_timeout_, tf_fallback_age_, "the images' stamp",
-        &missing);
+    const auto T =
+        aar_ros_common::LookupTransformOrLatest(tf_, tanker_frame_, link, stamp, tf_timeout_,
+                                                tf_fallback_age_, "the images' stamp", &missing);
     if (!T) {  // unmasked, the boom's edges would pull the outline
       *error = "the boom cannot be masked: " + missing;
       return std::nullopt;

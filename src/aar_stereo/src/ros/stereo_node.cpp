@@ -288,12 +288,11 @@ int MaxDisparity(const std::vector<Eigen::Vector3d>& points, const StereoGeometr
 }  // namespace
 
 std::optional<Eigen::Isometry3d> StereoNode::Transform(const std::string& target,
-                                                      const std::string& source,
-                                                      const ros::Time& stamp, std::string* why) {
-  return aar_ros_common::LookupTransformOrLatest(*tf_buffer_, target, source, stamp,
-                                                 options_.roi.tf_timeout,
-                                                 options_.roi.tf_fallback_age,
-                                                 "the images' stamp", why);
+                                                       const std::string& source,
+                                                       const ros::Time& stamp, std::string* why) {
+  return aar_ros_common::LookupTransformOrLatest(
+      *tf_buffer_, target, source, stamp, options_.roi.tf_timeout, options_.roi.tf_fallback_age,
+      "the images' stamp", why);
 }
 
 FrameRegion StereoNode::Roi(const std_msgs::Header& header, const StereoGeometry& geometry,

@@ -29,7 +29,7 @@ struct OcclusionNodeOptions {
   std::string robot_description = "robot_description";  // parameter holding the boom's URDF
   aar_description::ReceiverDescription receiver;        // ~receiver (default: the C-12)
   aar_ros_common::StackFrames frames;                   // tanker, receiver (estimate), cameras
-  double tf_timeout = 0.5;        // [s wall] waiting for the cloud's, cameras' and links' tf
+  double tf_timeout = 0.5;  // [s wall] waiting for the cloud's, cameras' and links' tf
   // [s] > 0: when tf has nothing at the cloud's stamp after tf_timeout, the latest at most this
   // much older (the boom's joints a frame old rather than a wait for their tf; real time). 0: off.
   double tf_fallback_age = 0.0;

@@ -27,8 +27,7 @@ namespace aar_registration {
 class OutlineInputs {
  public:
   OutlineInputs(ros::NodeHandle nh, const tf2_ros::Buffer& tf, const std::string& tanker_frame,
-                const std::string& robot_description, double tf_timeout,
-                double tf_fallback_age);
+                const std::string& robot_description, double tf_timeout, double tf_fallback_age);
   ~OutlineInputs();
 
   // The frame at `stamp`; nullopt with the reason when its images have not come (or are not
