@@ -287,7 +287,11 @@ TEST(BadInput, InvalidSettingsAreRefusedByName) {
   const struct {
     std::string arg, needle;
   } cases[] = {
-      {"_matcher:=5", "matcher must be in [0, 1], not 5"},
+      {"_matcher:=5", "matcher must be in [0, 2], not 5"},
+      // The sparse matcher's own limits, named at start-up rather than at the first frame.
+      {"_matcher:=2 _num_disparities:=256",
+       "matcher settings refused: sparse matcher: num_disparities must be a multiple of 16 up to "
+       "128, not 256"},
       {"_decimation:=7", "decimation must be in [0, 2], not 7"},
       {"_block_size:=abc", "block_size must be of type int"},
       {"_block_size:=-9", "block_size must be in [1, 255], not -9"},
