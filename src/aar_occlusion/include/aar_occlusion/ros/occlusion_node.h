@@ -1,6 +1,5 @@
 #pragma once
 
-#include <atomic>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -18,7 +17,6 @@
 #include <visualization_msgs/MarkerArray.h>
 
 #include <aar_ros_common/estimate_listener.h>
-#include <aar_ros_common/newest_wins.h>
 
 #include <aar_description/receiver_description.h>
 
@@ -62,10 +60,7 @@ class OcclusionNode {
   ~OcclusionNode();
 
  private:
-  // Hands the cloud to the culling thread: a cloud that waits there when a newer one comes is
-  // skipped and counted (aar_ros_common::NewestWins).
   void OnCloud(const sensor_msgs::PointCloud2::ConstPtr& msg);
-  void Cull(const sensor_msgs::PointCloud2::ConstPtr& msg);
   std::optional<Eigen::Isometry3d> Lookup(const std::string& frame, const ros::Time& stamp,
                                           std::string* error);
   std::optional<Eigen::Isometry3d> PredictedPose(const ros::Time& stamp);
@@ -94,12 +89,8 @@ class OcclusionNode {
   uint64_t frames_ = 0, unculled_frames_ = 0, reference_failures_ = 0;
   double last_ms_ = 0.0;
   size_t last_boom_points_ = 0, last_reference_both_ = 0;
-  size_t last_propeller_points_ = 0;     // of the boom points removed: on the propeller discs
-  size_t last_gated_points_ = 0;         // dropped by the receiver gate
-  std::atomic<uint64_t> superseded_{0};  // clouds skipped while culling (a newer one came)
-
-  // Last: the culling thread (stopped first in the destructor) uses the members above.
-  std::unique_ptr<aar_ros_common::NewestWins<sensor_msgs::PointCloud2::ConstPtr>> stage_;
+  size_t last_propeller_points_ = 0;  // of the boom points removed: on the propeller discs
+  size_t last_gated_points_ = 0;      // dropped by the receiver gate
 };
 
 }  // namespace aar_occlusion
