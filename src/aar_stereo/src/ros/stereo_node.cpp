@@ -172,6 +172,11 @@ void StereoNode::OnFrame(const Image::ConstPtr& left, const Info::ConstPtr& left
       ROS_WARN_STREAM(what << " (" << order_.dropped() << " dropped so far)");
     return;
   }
+  if (!options_.newest_wins) {
+    Pair pair{left, right, left_info, right_info};
+    Match(pair);
+    return;
+  }
   if (stage_->Put(Pair{left, right, left_info, right_info})) {
     ++superseded_;
     ROS_WARN_STREAM_THROTTLE(5.0,

@@ -73,6 +73,7 @@ StereoNodeOptions LoadStereoNodeOptions(aar_ros_common::ParamReader& params) {
   params.Check(o.max_frame_age >= 0.0, "max_frame_age", "must be >= 0 [s] (0: off)");
   o.rectified_upstream = params.Get("rectified_upstream", o.rectified_upstream);
   o.queue_size = params.Get("queue_size", o.queue_size);
+  o.newest_wins = params.Get("newest_wins", o.newest_wins);
   params.Check(o.queue_size >= 1, "queue_size", "must be at least 1");
   StereoRoiOptions& roi = o.roi;
   roi.enabled = params.Get("roi", roi.enabled);

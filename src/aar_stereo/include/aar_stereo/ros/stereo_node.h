@@ -63,6 +63,10 @@ struct StereoNodeOptions {
   // image_rect without rectification).
   bool rectified_upstream = false;
   int queue_size = 5;  // synchroniser queue per input
+  // true: pairs are matched on a thread of their own and a pair that arrives while another waits
+  // replaces it, counted (real time: replay.launch realtime:=true sets it); false: matched in the
+  // subscriber callback, queueing (lockstep runs and slow replays keep every pair).
+  bool newest_wins = false;
   // OpenCV's worker threads (cv::setNumThreads, process-wide); -1: OpenCV's default (all cores).
   int opencv_threads = -1;
   // [s] a pair older than this (ROS time now minus its stamp) when its turn comes is dropped:
