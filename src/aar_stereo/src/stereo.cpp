@@ -110,6 +110,13 @@ cv::Rect ProjectedRoi(const std::vector<Eigen::Vector3d>& points, const StereoGe
   return cv::Rect(x0, y0, std::max(0, x1 - x0), std::max(0, y1 - y0)) & full;
 }
 
+int MaxDisparity(const std::vector<Eigen::Vector3d>& points, const StereoGeometry& g) {
+  double z_min = 1e18;
+  for (const auto& p : points) z_min = std::min(z_min, p.z());
+  if (!(z_min > 0.0)) return std::numeric_limits<int>::max();
+  return static_cast<int>(std::ceil(g.fx * g.baseline() / z_min + (g.cx_left - g.cx_right))) + 1;
+}
+
 std::vector<Eigen::Vector3d> BoxCorners(const Eigen::AlignedBox3d& box,
                                         const Eigen::Isometry3d& T_optical_body, double grow) {
   Eigen::AlignedBox3d grown = box;

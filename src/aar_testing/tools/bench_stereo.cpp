@@ -89,14 +89,10 @@ SparseRow Sparse(const cv::Mat& left, const cv::Mat& right, const aar_stereo::St
   aar_stereo::StereoOptions o;
   o.matcher = aar_stereo::Matcher::kSparse;
   const aar_stereo::StereoProcessor sparse(o);
-  auto max_disparity = [&](const std::vector<Eigen::Vector3d>& points) {
-    double z = 1e18;
-    for (const auto& p : points) z = std::min(z, p.z());
-    return static_cast<int>(std::ceil(g.fx * g.baseline() / z)) + 1;
-  };
   const cv::Rect roi = aar_stereo::ProjectedRoi(receiver, g, 16);
   const std::vector<aar_stereo::DisparityZone> zones = {
-      {roi, max_disparity(receiver)}, {aar_stereo::ProjectedRoi(boom, g, 16), max_disparity(boom)}};
+      {roi, aar_stereo::MaxDisparity(receiver, g)},
+      {aar_stereo::ProjectedRoi(boom, g, 16), aar_stereo::MaxDisparity(boom, g)}};
   const aar_stereo::StereoResult r = sparse.Process(left, right, g, roi, zones);
   SparseRow row;
   row.ms = aar_testing::MedianMs(repeats, [&] { sparse.Process(left, right, g, roi, zones); });

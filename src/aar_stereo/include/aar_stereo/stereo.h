@@ -105,6 +105,11 @@ struct StereoResult {
 cv::Rect ProjectedRoi(const std::vector<Eigen::Vector3d>& points, const StereoGeometry& geometry,
                       int margin);
 
+// The largest disparity [px, matcher units: principal points' offset included] of anything at
+// `points` (left optical frame [m]): the nearest one's, plus a pixel; INT_MAX if one is not in
+// front of the cameras. With ProjectedRoi, a DisparityZone for the sparse matcher.
+int MaxDisparity(const std::vector<Eigen::Vector3d>& points, const StereoGeometry& geometry);
+
 // The corners of `box` (a body's bounding box in its own frame [m]) grown by `grow` [m] on every
 // side and placed by T_optical_body: with ProjectedRoi, the region where a predicted receiver can
 // appear.

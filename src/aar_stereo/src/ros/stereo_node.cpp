@@ -279,19 +279,6 @@ void StereoNode::WarnIfDistorted(const Info& left, const Info& right) {
                 << distorted_ << " such pairs so far");
 }
 
-namespace {
-
-// The largest disparity [px, matcher units] of anything at `points` (left optical frame [m]): the
-// nearest one's, plus a pixel; the full range if one is not in front of the cameras.
-int MaxDisparity(const std::vector<Eigen::Vector3d>& points, const StereoGeometry& g) {
-  double z_min = 1e18;
-  for (const auto& p : points) z_min = std::min(z_min, p.z());
-  if (!(z_min > 0.0)) return std::numeric_limits<int>::max();
-  return static_cast<int>(std::ceil(g.fx * g.baseline() / z_min + (g.cx_left - g.cx_right))) + 1;
-}
-
-}  // namespace
-
 std::optional<Eigen::Isometry3d> StereoNode::Transform(const std::string& target,
                                                        const std::string& source,
                                                        const ros::Time& stamp, std::string* why) {
