@@ -452,6 +452,63 @@ TEST(Tracking, CoastsLosesReacquiresAndResetsOnStampsGoingBack) {
       << diagnostics["last track event"];
 }
 
+// newest_wins: 40 clouds of the receiver sent at once, far faster than registration. A stage that
+// falls behind registers the cloud in hand, then the newest: each cloud is either registered
+// (an estimate) or counted as superseded on /diagnostics, none is lost unseen, and the last one
+// is always registered. With newest_wins off the subscriber queue (2) drops clouds unseen and the
+// counts do not add up.
+TEST(NewestWins, ABurstOfCloudsIsRegisteredOrCountedNoneLostUnseen) {
+  ros::NodeHandle nh;
+  ros::Publisher clouds = nh.advertise<sensor_msgs::PointCloud2>("/points", 100);
+  aar_testing::StampedCollector<aar_msgs::PoseEstimate> estimates(nh, "/aar/pose_estimate");
+  std::mutex diagnostics_mutex;
+  std::map<std::string, std::string> diagnostics;
+  ros::Subscriber diagnostics_sub = nh.subscribe<diagnostic_msgs::DiagnosticArray>(
+      "/diagnostics", 10, [&](const diagnostic_msgs::DiagnosticArray::ConstPtr& msg) {
+        std::lock_guard<std::mutex> lock(diagnostics_mutex);
+        for (const auto& status : msg->status) {
+          for (const auto& kv : status.values) diagnostics[kv.key] = kv.value;
+        }
+      });
+  tf2_ros::StaticTransformBroadcaster static_tf;
+  static_tf.sendTransform(SensorMount());
+  aar_testing::WaitFor(
+      [&] { return clouds.getNumSubscribers() > 0 && estimates.sub.getNumPublishers() > 0; }, 30.0);
+  ASSERT_GT(clouds.getNumSubscribers(), 0u);
+  const auto dense = aar_geometry::SampleReceiver(
+      aar_geometry::LoadMesh(aar_testing::ModelsDir() + "/receiver.obj"), {});
+  std::vector<Eigen::Vector3f> receiver;
+  const Eigen::Isometry3d T = aar_geometry::MakeTransform({0.3, 0.2, 0.0}, {0.0, -0.035, 0.0});
+  for (size_t i = 0; i < dense.size(); i += 2)
+    receiver.push_back((T * dense.points[i]).cast<float>());
+  // One cloud first, registered alone: the node is up and its tf is there.
+  sensor_msgs::PointCloud2 cloud = Cloud("sensor", receiver);
+  const ros::Time first = ros::Time::now() - ros::Duration(0.5);
+  cloud.header.stamp = first;
+  clouds.publish(cloud);
+  ASSERT_TRUE(aar_testing::WaitFor([&] { return estimates.size() == 1; }, 20.0));
+  constexpr int kBurst = 40;
+  for (int k = 1; k <= kBurst; ++k) {
+    cloud.header.stamp = first + ros::Duration(0.01 * k);
+    clouds.publish(cloud);
+  }
+  const ros::Time last = cloud.header.stamp;
+  auto count = [&](const std::string& key) {
+    std::lock_guard<std::mutex> lock(diagnostics_mutex);
+    return diagnostics.count(key) ? std::stoi(diagnostics[key]) : -1;
+  };
+  const std::string kSuperseded = "clouds superseded by a newer cloud (skipped while registering)";
+  aar_testing::WaitFor([&] { return count("frames") + count(kSuperseded) == kBurst + 1; }, 20.0);
+  const int frames = count("frames"), superseded = count(kSuperseded);
+  std::printf("[ newest wins ] %d clouds: %d registered, %d superseded\n", kBurst + 1, frames,
+              superseded);
+  EXPECT_EQ(frames + superseded, kBurst + 1) << "clouds lost unseen";
+  EXPECT_GE(superseded, 1) << "the burst did not overload the node: the test shows nothing";
+  std::lock_guard<std::mutex> lock(estimates.mutex);
+  EXPECT_EQ(static_cast<int>(estimates.by_stamp.size()), frames);
+  EXPECT_EQ(estimates.by_stamp.count(last), 1u) << "the newest cloud was not registered";
+}
+
 TEST(BadInput, MissingReferenceMeshExitsNamingIt) {
   const auto r = aar_testing::RunCommand(
       "timeout 30 rosrun aar_registration registration_node __name:=bad_mesh _reference:=dense "

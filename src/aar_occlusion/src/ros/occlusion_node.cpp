@@ -58,7 +58,12 @@ OcclusionNode::OcclusionNode(ros::NodeHandle nh, ros::NodeHandle private_nh,
     estimates_ = std::make_unique<aar_ros_common::EstimateListener>(nh_, "aar/pose_estimate",
                                                                     options_.frames.tanker);
   }
-  cloud_sub_ = nh_.subscribe("points", 5, &OcclusionNode::OnCloud, this);
+  if (options_.newest_wins) {
+    stage_ = std::make_unique<aar_ros_common::NewestWins<sensor_msgs::PointCloud2::ConstPtr>>(
+        [this](sensor_msgs::PointCloud2::ConstPtr& msg) { Cull(msg); });
+  }
+  cloud_sub_ = nh_.subscribe("points", options_.newest_wins ? aar_ros_common::kHandOverQueue : 5,
+                             &OcclusionNode::OnCloud, this);
   ROS_INFO_STREAM("occlusion: culling " << ToString(options_.step.cull) << ", "
                                         << (step_->boom() ? step_->boom()->parts().size() : 0)
                                         << " boom parts, " << step_->reference_samples()
@@ -69,6 +74,7 @@ OcclusionNode::OcclusionNode(ros::NodeHandle nh, ros::NodeHandle private_nh,
 OcclusionNode::~OcclusionNode() {
   diagnostics_timer_.stop();  // it reads members destroyed before it
   cloud_sub_.shutdown();
+  if (stage_) stage_->Stop();
 }
 
 std::optional<Eigen::Isometry3d> OcclusionNode::Lookup(const std::string& frame,
@@ -99,6 +105,20 @@ std::optional<Eigen::Isometry3d> OcclusionNode::PredictedPose(const ros::Time& s
 }
 
 void OcclusionNode::OnCloud(const sensor_msgs::PointCloud2::ConstPtr& msg) {
+  if (!stage_) {
+    Cull(msg);
+    return;
+  }
+  if (stage_->Put(msg)) {
+    ++superseded_;
+    ROS_WARN_STREAM_THROTTLE(5.0,
+                             "occlusion: a cloud arrived while the previous one still waited "
+                             "for culling: the older one skipped, the newest wins ("
+                                 << superseded_ << " superseded so far)");
+  }
+}
+
+void OcclusionNode::Cull(const sensor_msgs::PointCloud2::ConstPtr& msg) {
   const auto start = std::chrono::steady_clock::now();
   std::lock_guard<std::mutex> lock(mutex_);
   std::string error;                                  // why this frame is not culled
@@ -200,6 +220,8 @@ void OcclusionNode::Diagnose(diagnostic_updater::DiagnosticStatusWrapper& status
   std::lock_guard<std::mutex> lock(report_mutex_);
   status.add("frames", frames_);
   status.add("frames passed through unculled", unculled_frames_);
+  status.add("clouds superseded by a newer cloud (skipped while culling)",
+             static_cast<uint64_t>(superseded_));
   status.add("frames without a reference", reference_failures_);
   status.add("cull method", ToString(options_.step.cull));
   status.add("boom points removed (last frame)", last_boom_points_);

@@ -44,6 +44,7 @@ OcclusionNodeOptions LoadOcclusionNodeOptions(aar_ros_common::ParamReader& param
   o.frames = aar_ros_common::LoadStackFrames(params);
   o.tf_timeout = params.GetNonNegative("tf_timeout", o.tf_timeout);
   o.tf_fallback_age = params.GetNonNegative("tf_fallback_age", o.tf_fallback_age);
+  o.newest_wins = params.Get("newest_wins", o.newest_wins);
   o.estimate_max_age = params.Get("estimate_max_age", o.estimate_max_age);
   o.marker_length = params.Get("marker_length", o.marker_length);
   o.estimate_wait = params.GetNonNegative("estimate_wait", o.estimate_wait);

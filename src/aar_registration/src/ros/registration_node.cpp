@@ -46,15 +46,20 @@ RegistrationNode::RegistrationNode(ros::NodeHandle nh, ros::NodeHandle private_n
     outline_pub_ = nh_.advertise<geometry_msgs::PoseWithCovarianceStamped>("aar/outline_pose", 10);
   }
   PublishModels();
+  if (options_.newest_wins)
+    stage_ = std::make_unique<aar_ros_common::NewestWins<Input>>(
+        [this](Input& input) { Process(input); });
+  // newest_wins: the callbacks only hand over; the queue takes in a stall (kHandOverQueue).
+  const uint32_t queue = options_.newest_wins ? aar_ros_common::kHandOverQueue : 5;
   if (options_.registrar.reference == ReferenceKind::kTopic) {
     // Each cloud is registered to the reference built for its own frame (same stamp).
-    points_filter_.subscribe(nh_, "points", 5);
-    reference_filter_.subscribe(nh_, "aar/reference_cloud", 5);
+    points_filter_.subscribe(nh_, "points", queue);
+    reference_filter_.subscribe(nh_, "aar/reference_cloud", queue);
     sync_ = std::make_unique<Sync>(points_filter_, reference_filter_, 10);
     sync_->registerCallback(&RegistrationNode::OnPair, this);
     // A cloud whose reference never comes still gets an answer (an invalid estimate), so that
     // lockstep moves on and the log says what is missing.
-    cloud_sub_ = nh_.subscribe("points", 5, &RegistrationNode::OnPointsSeen, this);
+    cloud_sub_ = nh_.subscribe("points", queue, &RegistrationNode::OnPointsSeen, this);
     pending_timer_ =
         nh_.createWallTimer(ros::WallDuration(0.1), &RegistrationNode::ExpirePending, this);
   } else {
@@ -71,7 +76,8 @@ RegistrationNode::RegistrationNode(ros::NodeHandle nh, ros::NodeHandle private_n
             }
           });
     }
-    cloud_sub_ = nh_.subscribe("points", 2, &RegistrationNode::OnCloud, this);
+    cloud_sub_ =
+        nh_.subscribe("points", options_.newest_wins ? queue : 2, &RegistrationNode::OnCloud, this);
   }
   aar_ros_common::AnnounceStart(private_nh, "registration");
 }
@@ -83,6 +89,7 @@ RegistrationNode::~RegistrationNode() {
   cloud_sub_.shutdown();
   points_filter_.unsubscribe();
   reference_filter_.unsubscribe();
+  if (stage_) stage_->Stop();
 }
 
 bool RegistrationNode::TryBuildStaticReference(double tf_wait) {
@@ -156,9 +163,11 @@ void RegistrationNode::ExpirePending(const ros::WallTimerEvent&) {
     while (answered_.size() > 100) answered_.erase(answered_.begin());
   }
   for (const ros::Time& stamp : expired) {
-    ReportError("no reference cloud with the points' stamp within " +
-                std::to_string(options_.reference_timeout) +
-                " s: is occlusion_node publishing aar/reference_cloud (publish_reference)?");
+    ReportError(
+        "no reference cloud with the points' stamp within " +
+        std::to_string(options_.reference_timeout) +
+        " s: is occlusion_node publishing aar/reference_cloud (publish_reference), or did it skip "
+        "this cloud for a newer one (newest_wins)?");
     Publish(RegistrarResult{}, stamp, 0.0);
   }
 }
@@ -171,14 +180,34 @@ void RegistrationNode::OnPair(const sensor_msgs::PointCloud2::ConstPtr& points,
     answered_.insert(points->header.stamp);
     pending_.erase(points->header.stamp);
   }
-  std::lock_guard<std::mutex> lock(mutex_);
-  try {
-    ReferencePoints ref = ToReferencePoints(*reference);
-    registrar_.SetReference(std::move(ref.points), std::move(ref.normals));
-  } catch (const std::exception& e) {  // no stale target: this frame gets no estimate
-    ReportError(std::string("reference cloud rejected: ") + e.what());
+  Hand(Input{points, reference});
+}
+
+void RegistrationNode::Hand(Input input) {
+  if (!stage_) {
+    Process(input);
+    return;
   }
-  Register(points);
+  if (stage_->Put(std::move(input))) {
+    ++superseded_;
+    ROS_WARN_STREAM_THROTTLE(5.0,
+                             "registration: a cloud arrived while the previous one still waited "
+                             "for registration: the older one skipped, the newest wins ("
+                                 << superseded_ << " superseded so far)");
+  }
+}
+
+void RegistrationNode::Process(const Input& input) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (input.reference) {
+    try {
+      ReferencePoints ref = ToReferencePoints(*input.reference);
+      registrar_.SetReference(std::move(ref.points), std::move(ref.normals));
+    } catch (const std::exception& e) {  // no stale target: this frame gets no estimate
+      ReportError(std::string("reference cloud rejected: ") + e.what());
+    }
+  }
+  Register(input.points);
 }
 
 void RegistrationNode::ReportError(const std::string& what) {
@@ -186,8 +215,7 @@ void RegistrationNode::ReportError(const std::string& what) {
 }
 
 void RegistrationNode::OnCloud(const sensor_msgs::PointCloud2::ConstPtr& msg) {
-  std::lock_guard<std::mutex> lock(mutex_);
-  Register(msg);
+  Hand(Input{msg, nullptr});
 }
 
 void RegistrationNode::Register(const sensor_msgs::PointCloud2::ConstPtr& msg) {
@@ -313,6 +341,8 @@ void RegistrationNode::Diagnose(diagnostic_updater::DiagnosticStatusWrapper& sta
   status.add("frames", frames_);
   status.add("frames estimated", estimates_);
   status.add("clouds dropped as out of order", order_.dropped());
+  status.add("clouds superseded by a newer cloud (skipped while registering)",
+             static_cast<uint64_t>(superseded_));
   status.add("tracking", options_.registrar.track);
   for (const auto& [outcome, count] : outcomes_)
     status.add(std::string("frames ") + ToString(outcome), count);

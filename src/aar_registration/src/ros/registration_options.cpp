@@ -114,6 +114,7 @@ RegistrationNodeOptions LoadRegistrationNodeOptions(aar_ros_common::ParamReader&
   o.truth_frame = params.Get("truth_frame", o.truth_frame);
   o.tf_timeout = params.GetNonNegative("tf_timeout", o.tf_timeout);
   o.tf_fallback_age = params.GetNonNegative("tf_fallback_age", o.tf_fallback_age);
+  o.newest_wins = params.Get("newest_wins", o.newest_wins);
   o.reference_timeout = params.GetNonNegative("reference_timeout", o.reference_timeout);
   o.max_stamp_lead = params.GetNonNegative("max_stamp_lead", o.max_stamp_lead);
   o.diagnostic_period = params.Get("diagnostic_period", o.diagnostic_period);

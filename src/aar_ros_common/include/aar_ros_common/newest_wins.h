@@ -10,6 +10,12 @@
 
 namespace aar_ros_common {
 
+// The subscriber queue of a stage whose callback only hands its input to a NewestWins: a second
+// of frames at 30 Hz. The callback returns at once, so the queue fills only while the process is
+// not scheduled at all (a stall); it takes those frames in so that the stage, not the subscriber
+// queue, skips them, and counts them.
+constexpr uint32_t kHandOverQueue = 30;
+
 // A stage that never queues (issue 28): at most one item waits while the worker processes
 // another, and a new item replaces a waiting one, which is counted as superseded. Put returns at
 // once, so a subscriber callback never blocks behind processing and ROS never drops a message

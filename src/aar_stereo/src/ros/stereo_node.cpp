@@ -100,7 +100,9 @@ void StereoNode::Connect() {
   std::lock_guard<std::mutex> lock(connect_mutex_);
   const bool wanted = disparity_pub_.getNumSubscribers() > 0 || points_pub_.getNumSubscribers() > 0;
   if (wanted && !subscribed_) {
-    const uint32_t q = static_cast<uint32_t>(options_.queue_size);
+    // newest_wins: the callback only hands over; the queue takes in a stall (kHandOverQueue).
+    uint32_t q = static_cast<uint32_t>(options_.queue_size);
+    if (options_.newest_wins) q = std::max(q, aar_ros_common::kHandOverQueue);
     left_sub_.subscribe(nh_, "left/image_rect", q);
     left_info_sub_.subscribe(nh_, "left/camera_info", q);
     right_sub_.subscribe(nh_, "right/image_rect", q);

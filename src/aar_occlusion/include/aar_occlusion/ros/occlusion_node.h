@@ -1,5 +1,6 @@
 #pragma once
 
+#include <atomic>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -17,6 +18,7 @@
 #include <visualization_msgs/MarkerArray.h>
 
 #include <aar_ros_common/estimate_listener.h>
+#include <aar_ros_common/newest_wins.h>
 
 #include <aar_description/receiver_description.h>
 
@@ -33,6 +35,10 @@ struct OcclusionNodeOptions {
   // [s] > 0: when tf has nothing at the cloud's stamp after tf_timeout, the latest at most this
   // much older (the boom's joints a frame old rather than a wait for their tf; real time). 0: off.
   double tf_fallback_age = 0.0;
+  // true: clouds are culled on a thread of their own and a cloud that arrives while another
+  // waits replaces it, counted (real time: replay.launch realtime:=true sets it); false: culled
+  // in the subscriber callback, queueing (lockstep runs and slow replays keep every cloud).
+  bool newest_wins = false;
   double estimate_max_age = 1.0;  // [s] an older estimate is not used as the predicted pose
   // [s wall] how long to wait for the estimate of the previous cloud (tf tanker -> receiver at
   // its stamp): in lockstep it is on its way, and waiting makes runs repeatable.
@@ -60,7 +66,10 @@ class OcclusionNode {
   ~OcclusionNode();
 
  private:
+  // Hands the cloud to the culling thread: a cloud that waits there when a newer one comes is
+  // skipped and counted (aar_ros_common::NewestWins).
   void OnCloud(const sensor_msgs::PointCloud2::ConstPtr& msg);
+  void Cull(const sensor_msgs::PointCloud2::ConstPtr& msg);
   std::optional<Eigen::Isometry3d> Lookup(const std::string& frame, const ros::Time& stamp,
                                           std::string* error);
   std::optional<Eigen::Isometry3d> PredictedPose(const ros::Time& stamp);
@@ -89,8 +98,12 @@ class OcclusionNode {
   uint64_t frames_ = 0, unculled_frames_ = 0, reference_failures_ = 0;
   double last_ms_ = 0.0;
   size_t last_boom_points_ = 0, last_reference_both_ = 0;
-  size_t last_propeller_points_ = 0;  // of the boom points removed: on the propeller discs
-  size_t last_gated_points_ = 0;      // dropped by the receiver gate
+  size_t last_propeller_points_ = 0;     // of the boom points removed: on the propeller discs
+  size_t last_gated_points_ = 0;         // dropped by the receiver gate
+  std::atomic<uint64_t> superseded_{0};  // clouds skipped while culling (a newer one came)
+
+  // Last: the culling thread (stopped first in the destructor) uses the members above.
+  std::unique_ptr<aar_ros_common::NewestWins<sensor_msgs::PointCloud2::ConstPtr>> stage_;
 };
 
 }  // namespace aar_occlusion

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <atomic>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -10,6 +11,7 @@
 #include <aar_geometry/triangle_mesh.h>
 #include <aar_ros_common/error_throttle.h>
 #include <aar_ros_common/frames.h>
+#include <aar_ros_common/newest_wins.h>
 #include <aar_ros_common/param_reader.h>
 #include <aar_ros_common/stamp_order.h>
 #include <diagnostic_updater/diagnostic_updater.h>
@@ -37,6 +39,10 @@ struct RegistrationNodeOptions {
   // [s] > 0: the outline's boom mask from the links' latest tf at most this much older when the
   // images' own has not come after tf_timeout (real time). 0: off.
   double tf_fallback_age = 0.0;
+  // true: clouds are registered on a thread of their own and a cloud that arrives while another
+  // waits replaces it, counted (real time: replay.launch realtime:=true sets it); false:
+  // registered in the subscriber callback, queueing (lockstep runs and slow replays).
+  bool newest_wins = false;
   // [s wall] reference: topic: a cloud without a reference of its stamp this long is answered
   // with an invalid estimate.
   double reference_timeout = 2.0;
@@ -64,7 +70,15 @@ class RegistrationNode {
   ~RegistrationNode();
 
  private:
+  // A sensed cloud and, when the reference is a topic, the reference built for its stamp.
+  struct Input {
+    sensor_msgs::PointCloud2::ConstPtr points, reference;
+  };
   void OnCloud(const sensor_msgs::PointCloud2::ConstPtr& msg);
+  // Registers `input` here (newest_wins off) or hands it to the registering thread, where an
+  // input still waiting when a newer one comes is skipped and counted.
+  void Hand(Input input);
+  void Process(const Input& input);
   void Register(const sensor_msgs::PointCloud2::ConstPtr& msg);  // mutex_ held
   void OnPair(const sensor_msgs::PointCloud2::ConstPtr& points,
               const sensor_msgs::PointCloud2::ConstPtr& reference);
@@ -118,6 +132,11 @@ class RegistrationNode {
   std::string last_outline_note_, last_outline_missing_;
   double last_outline_quality_ = 0.0;
   TrackOutcome last_outcome_ = TrackOutcome::kMissed;
+  std::atomic<uint64_t> superseded_{0};  // clouds skipped while registering (a newer one came)
+
+  // Last: the registering thread (newest_wins; stopped first in the destructor) uses the members
+  // above.
+  std::unique_ptr<aar_ros_common::NewestWins<Input>> stage_;
 };
 
 }  // namespace aar_registration

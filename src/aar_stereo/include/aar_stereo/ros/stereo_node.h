@@ -62,7 +62,7 @@ struct StereoNodeOptions {
   // (D, R) describe the raw cameras; false: a non-zero D is warned about (distorted images fed as
   // image_rect without rectification).
   bool rectified_upstream = false;
-  int queue_size = 5;  // synchroniser queue per input
+  int queue_size = 5;  // synchroniser queue per input (subscribers: at least 30 with newest_wins)
   // true: pairs are matched on a thread of their own and a pair that arrives while another waits
   // replaces it, counted (real time: replay.launch realtime:=true sets it); false: matched in the
   // subscriber callback, queueing (lockstep runs and slow replays keep every pair).
