@@ -21,6 +21,9 @@
 #include "aar_testing/wait.h"
 
 #include <limits>
+#include <map>
+#include <mutex>
+#include <string>
 
 namespace {
 
@@ -75,6 +78,29 @@ TEST(NearContact, NoBoomErrorsUnderTenCentimetresAndOneDegree) {
   EXPECT_LT(position, 0.10);
   EXPECT_LT(orientation, 1.0);
 }
+
+// The last value of each key on /diagnostics, whatever status it came in.
+class DiagnosticValues {
+ public:
+  explicit DiagnosticValues(ros::NodeHandle& nh)
+      : sub_(nh.subscribe<diagnostic_msgs::DiagnosticArray>(
+            "/diagnostics", 10, [this](const diagnostic_msgs::DiagnosticArray::ConstPtr& msg) {
+              std::lock_guard<std::mutex> lock(mutex_);
+              for (const auto& status : msg->status) {
+                for (const auto& kv : status.values) values_[kv.key] = kv.value;
+              }
+            })) {}
+  std::string operator[](const std::string& key) {  // "" until it came
+    std::lock_guard<std::mutex> lock(mutex_);
+    const auto it = values_.find(key);
+    return it == values_.end() ? std::string() : it->second;
+  }
+
+ private:
+  std::mutex mutex_;
+  std::map<std::string, std::string> values_;
+  ros::Subscriber sub_;  // last: its callback uses the members above
+};
 
 sensor_msgs::PointCloud2 Cloud(const std::string& frame, const std::vector<Eigen::Vector3f>& points,
                                bool with_z = true) {
@@ -330,15 +356,7 @@ TEST(Tracking, CoastsLosesReacquiresAndResetsOnStampsGoingBack) {
   ros::Publisher clock = nh.advertise<rosgraph_msgs::Clock>("/clock", 5);
   aar_testing::LoggedErrors warnings(nh, "/registration", rosgraph_msgs::Log::WARN);
   aar_testing::StampedCollector<aar_msgs::PoseEstimate> estimates(nh, "/aar/pose_estimate");
-  std::mutex diagnostics_mutex;
-  std::map<std::string, std::string> diagnostics;
-  ros::Subscriber diagnostics_sub = nh.subscribe<diagnostic_msgs::DiagnosticArray>(
-      "/diagnostics", 10, [&](const diagnostic_msgs::DiagnosticArray::ConstPtr& msg) {
-        std::lock_guard<std::mutex> lock(diagnostics_mutex);
-        for (const auto& status : msg->status) {
-          for (const auto& kv : status.values) diagnostics[kv.key] = kv.value;
-        }
-      });
+  DiagnosticValues diagnostics(nh);
   tf2_ros::StaticTransformBroadcaster static_tf;
   static_tf.sendTransform(SensorMount());
   aar_testing::WaitFor(
@@ -437,13 +455,7 @@ TEST(Tracking, CoastsLosesReacquiresAndResetsOnStampsGoingBack) {
     EXPECT_EQ(estimates.by_stamp.at(ros::Time(100.5))->seed, E::SEED_PREDICTION);
     EXPECT_GT(estimates.by_stamp.at(ros::Time(100.5))->covariance[0], 0.0);
   }
-  aar_testing::WaitFor(
-      [&] {
-        std::lock_guard<std::mutex> lock(diagnostics_mutex);
-        return diagnostics["frames"] == "15";
-      },
-      5.0);
-  std::lock_guard<std::mutex> lock(diagnostics_mutex);
+  aar_testing::WaitFor([&] { return diagnostics["frames"] == "15"; }, 5.0);
   EXPECT_EQ(diagnostics["clouds dropped as out of order"], "1");
   EXPECT_EQ(diagnostics["frames lost"], "1");
   EXPECT_EQ(diagnostics["frames rejected"], "2");
@@ -461,15 +473,7 @@ TEST(NewestWins, ABurstOfCloudsIsRegisteredOrCountedNoneLostUnseen) {
   ros::NodeHandle nh;
   ros::Publisher clouds = nh.advertise<sensor_msgs::PointCloud2>("/points", 100);
   aar_testing::StampedCollector<aar_msgs::PoseEstimate> estimates(nh, "/aar/pose_estimate");
-  std::mutex diagnostics_mutex;
-  std::map<std::string, std::string> diagnostics;
-  ros::Subscriber diagnostics_sub = nh.subscribe<diagnostic_msgs::DiagnosticArray>(
-      "/diagnostics", 10, [&](const diagnostic_msgs::DiagnosticArray::ConstPtr& msg) {
-        std::lock_guard<std::mutex> lock(diagnostics_mutex);
-        for (const auto& status : msg->status) {
-          for (const auto& kv : status.values) diagnostics[kv.key] = kv.value;
-        }
-      });
+  DiagnosticValues diagnostics(nh);
   tf2_ros::StaticTransformBroadcaster static_tf;
   static_tf.sendTransform(SensorMount());
   aar_testing::WaitFor(
@@ -494,8 +498,8 @@ TEST(NewestWins, ABurstOfCloudsIsRegisteredOrCountedNoneLostUnseen) {
   }
   const ros::Time last = cloud.header.stamp;
   auto count = [&](const std::string& key) {
-    std::lock_guard<std::mutex> lock(diagnostics_mutex);
-    return diagnostics.count(key) ? std::stoi(diagnostics[key]) : -1;
+    const std::string value = diagnostics[key];
+    return value.empty() ? -1 : std::stoi(value);
   };
   const std::string kSuperseded = "clouds superseded by a newer cloud (skipped while registering)";
   aar_testing::WaitFor([&] { return count("frames") + count(kSuperseded) == kBurst + 1; }, 20.0);
