@@ -12,6 +12,7 @@
 #include <Eigen/Eigenvalues>
 #include <opencv2/imgproc.hpp>
 
+#include "aar_alignment/boom_parts.h"
 #include "aar_alignment/search.h"
 #include "aar_alignment/statistics.h"
 
@@ -52,42 +53,6 @@ struct Line {
   double fit = 0.0;  // [0, 1] how surely the outline lies within kInlierPx of the prediction
   bool usable = false;
 };
-
-// The boom's convex parts projected into one camera, grown by `margin` [px]. A part that reaches
-// behind the camera's plane is clipped to it first.
-cv::Mat BoomMask(const PinholeCamera& c, const Eigen::Isometry3d& T_optical_tanker,
-                 const std::vector<std::vector<Eigen::Vector3d>>& parts, double margin) {
-  if (parts.empty()) return {};
-  constexpr double kNear = 0.05;  // [m]
-  cv::Mat mask = cv::Mat::zeros(c.height, c.width, CV_8U);
-  for (const auto& part : parts) {
-    std::vector<Eigen::Vector3d> front, back;
-    for (const auto& p : part)
-      (T_optical_tanker * p).z() > kNear ? front.push_back(T_optical_tanker * p)
-                                         : back.push_back(T_optical_tanker * p);
-    std::vector<Eigen::Vector3d> kept = front;
-    for (const auto& a : front)
-      for (const auto& b : back) kept.push_back(b + (a - b) * (kNear - b.z()) / (a.z() - b.z()));
-    if (front.empty()) continue;
-    std::vector<cv::Point2f> pixels;
-    for (const auto& y : kept)
-      pixels.emplace_back(c.fx * y.x() / y.z() + c.cx, c.fy * y.y() / y.z() + c.cy);
-    std::vector<cv::Point2f> hull;
-    cv::convexHull(pixels, hull);
-    cv::Point2f centre(0.f, 0.f);
-    for (const auto& h : hull) centre += h / static_cast<float>(hull.size());
-    std::vector<cv::Point> grown;
-    for (const auto& h : hull) {
-      const cv::Point2f d = h - centre;
-      const float len = std::max(1e-3f, std::hypot(d.x, d.y));
-      const cv::Point2f g = h + d * static_cast<float>(margin / len);
-      grown.emplace_back(static_cast<int>(std::lround(std::clamp(g.x, -1e6f, 1e6f))),
-                         static_cast<int>(std::lround(std::clamp(g.y, -1e6f, 1e6f))));
-    }
-    cv::fillConvexPoly(mask, grown, cv::Scalar(1));
-  }
-  return mask;
-}
 
 float Bilinear(const cv::Mat& image, double x, double y) {
   const int x0 = static_cast<int>(std::floor(x)), y0 = static_cast<int>(std::floor(y));
@@ -362,7 +327,9 @@ Matrix6d PriorInformation(const AlignmentOptions& o, const Matrix6d& covariance)
   return d.asDiagonal();
 }
 
-std::string CheckInput(const AlignmentInput& in) {
+}  // namespace
+
+std::string CheckAlignmentInput(const AlignmentInput& in) {
   const std::pair<const cv::Mat*, const PinholeCamera*> views[] = {{&in.left, &in.left_camera},
                                                                    {&in.right, &in.right_camera}};
   for (int i = 0; i < 2; ++i) {
@@ -380,7 +347,6 @@ std::string CheckInput(const AlignmentInput& in) {
     return "the predicted pose is not finite";
   return "";
 }
-}  // namespace
 
 LineModel ParseLineModel(const std::string& name) {
   if (name == "region") return LineModel::kRegion;
@@ -434,8 +400,7 @@ class OutlineAligner::Run {
       views_[i].image = images[i];
       views_[i].camera = cameras[i];
       views_[i].T_optical_tanker = cameras[i]->T_tanker_optical.inverse();
-      views_[i].boom = BoomMask(*cameras[i], views_[i].T_optical_tanker, in.boom_parts_in_tanker,
-                                o_.boom_margin_px);
+      views_[i].boom = BoomMask(*cameras[i], in.boom_parts_in_tanker, o_.boom_margin_px);
     }
     R_ = R0_ = in.T_tanker_receiver_predicted.linear();
     p_ = p0_ = in.T_tanker_receiver_predicted.translation();
@@ -539,6 +504,7 @@ class OutlineAligner::Run {
   // The result's figures from a pass at the current pose.
   void Finish(const Pass& last, AlignmentResult& out) const {
     out.lines = last.usable;
+    out.outline_lines = static_cast<int>(contours_[0].size() + contours_[1].size());
     out.information = last.H / o_.covariance_scale;
     out.covariance = (out.information + prior_).inverse();
     out.covariance = 0.5 * (out.covariance + out.covariance.transpose()).eval();
@@ -581,7 +547,7 @@ constexpr const char* kNoOutline =
 AlignmentResult OutlineAligner::Align(const AlignmentInput& in) const {
   const auto start = std::chrono::steady_clock::now();
   AlignmentResult out;
-  out.error = CheckInput(in);
+  out.error = CheckAlignmentInput(in);
   if (!out.error.empty()) return out;
   Run run(*this, in);
   if (options_.search_radius_px > 0.0) out.search_shift_px = run.Search();
@@ -627,7 +593,7 @@ AlignmentResult OutlineAligner::Align(const AlignmentInput& in) const {
 AlignmentResult OutlineAligner::Score(const AlignmentInput& in) const {
   const auto start = std::chrono::steady_clock::now();
   AlignmentResult out;
-  out.error = CheckInput(in);
+  out.error = CheckAlignmentInput(in);
   if (!out.error.empty()) return out;
   Run run(*this, in);
   if (!run.Outline()) {

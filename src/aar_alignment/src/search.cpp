@@ -68,7 +68,9 @@ ShiftSearchResult SearchShift(const OutlineModel& model, const cv::Mat& image, c
   const cv::Mat n_in = correlate(weight, silhouette), s_in = correlate(wi, silhouette),
                 q_in = correlate(wii, silhouette), n_all = correlate(weight, box),
                 s_all = correlate(wi, box), q_all = correlate(wii, box);
-  constexpr double kNoiseFloor = 4.0;  // [grey^2] a uniform window explains nothing
+  // [grey^2] per pixel, added to the whole variance; with uniform_scores_zero to the unexplained
+  // as well, so that a uniform window (whose split explains its tiny variance perfectly) scores 0.
+  constexpr double kNoiseFloor = 4.0;
   const double template_pixels = cv::sum(silhouette)[0];
   cv::Mat score(n_in.size(), CV_32F);
   for (int y = 0; y < score.rows; ++y) {
@@ -80,8 +82,10 @@ ShiftSearchResult SearchShift(const OutlineModel& model, const cv::Mat& image, c
         score.at<float>(y, x) = 0.0f;  // mostly hidden by the boom
         continue;
       }
-      const double split = (qi - si * si / ni) + (qo - so * so / no);
-      const double total = qa - sa * sa / na + na * kNoiseFloor;
+      const double floor = na * kNoiseFloor;
+      const double split =
+          (qi - si * si / ni) + (qo - so * so / no) + (options.uniform_scores_zero ? floor : 0.0);
+      const double total = qa - sa * sa / na + floor;
       score.at<float>(y, x) = static_cast<float>(1.0 - split / total);
     }
   }
@@ -99,6 +103,7 @@ ShiftSearchResult SearchShift(const OutlineModel& model, const cv::Mat& image, c
   out.shift_px = (k - offset) / m;
   const cv::Point zero(std::clamp(static_cast<int>(std::lround(offset.x())), 0, score.cols - 1),
                        std::clamp(static_cast<int>(std::lround(offset.y())), 0, score.rows - 1));
+  out.score = best;
   out.score_gain = best - score.at<float>(zero);
   // Move the receiver across the line of sight of the camera by the shift.
   const Eigen::Isometry3d T_optical_tanker = camera.T_tanker_optical.inverse();

@@ -20,6 +20,9 @@ void OutlineOptions::Validate() const {
   if (!(start_sigma_position > 0.0) || !(start_sigma_rotation > 0.0))
     fail("start_sigma_position and start_sigma_rotation must be > 0");
   if (!(disparity_sigma >= 0.0)) fail("disparity_sigma must be >= 0");
+  acquisition.Validate();
+  if (!(image_start_quality >= 0.0 && image_start_quality <= 1.0))
+    fail("image_start_quality must lie in [0, 1]");
   if (!(information_floor_position > 0.0) || !(information_floor_rotation > 0.0))
     fail("information_floor_position and information_floor_rotation must be > 0");
 }
@@ -319,9 +322,50 @@ void Registrar::Start(double stamp_s, const std::vector<Eigen::Vector3d>& sensed
     if (!out.registered || rest.empty()) break;  // nothing to set aside
     rest = Outside(rest, out.T_tanker_receiver_registered * centroid, radius);
   }
-  out.outline_note = "start refused: " + refused.str();
-  out.outline_note.resize(out.outline_note.size() - 2);
+  std::string stereo = refused.str();
+  stereo.resize(stereo.size() - 2);
+  std::string why;
+  if (options_.outline.image_start) {
+    if (ImageStart(stamp_s, frame, out, why)) {
+      out.outline_note += " (stereo's seeds refused: " + stereo + ")";
+      return;
+    }
+    stereo += "; images alone: " + why;
+  }
+  out.outline_note = "start refused: " + stereo;
   out.track = tracker_.Reject(stamp_s, out.outline_note);
+}
+
+bool Registrar::ImageStart(double stamp_s, const OutlineFrame& frame, RegistrarResult& out,
+                           std::string& why) {
+  aar_alignment::AlignmentInput in;
+  in.left = frame.left, in.right = frame.right;
+  in.left_camera = frame.left_camera, in.right_camera = frame.right_camera;
+  in.boom_parts_in_tanker = frame.boom_parts_in_tanker;
+  in.T_tanker_receiver_predicted = options_.T_tanker_receiver_nominal;  // its attitude
+  const aar_alignment::AcquisitionResult a =
+      aar_alignment::Acquire(*aligner_, in, options_.outline.acquisition);
+  out.outline = a.alignment;
+  out.outline_ran = true;
+  out.outline_ms += a.time_ms;
+  if (!a.valid) {
+    why = a.error;
+    return false;
+  }
+  if (a.alignment.quality < options_.outline.image_start_quality) {
+    std::ostringstream s;
+    s << Quality(a.alignment) << " < image_start_quality " << options_.outline.image_start_quality;
+    why = s.str();
+    return false;
+  }
+  out.track = tracker_.Update(stamp_s, a.alignment.T_tanker_receiver, a.alignment.covariance);
+  out.outline_fused = true;
+  out.error.clear();
+  std::ostringstream s;
+  s << "started from the images alone (" << Quality(a.alignment) << ", searched from " << a.range_m
+    << " m)";
+  out.outline_note = s.str();
+  return true;
 }
 
 void Registrar::Track(double stamp_s, const std::vector<Eigen::Vector3d>& sensed,

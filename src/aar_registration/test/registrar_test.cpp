@@ -359,7 +359,10 @@ TEST(Registrar, RefusesOptionsThatCannotWork) {
            [](OutlineOptions& o) { o.max_poor_frames = 0; },
            [](OutlineOptions& o) { o.start_candidates = 0; },
            [](OutlineOptions& o) { o.disparity_sigma = -0.1; },
-           [](OutlineOptions& o) { o.alignment.scales = {}; }}) {
+           [](OutlineOptions& o) { o.alignment.scales = {}; },
+           [](OutlineOptions& o) { o.image_start_quality = -0.1; },
+           [](OutlineOptions& o) { o.acquisition.min_visible = 1.5; },
+           [](OutlineOptions& o) { o.acquisition.range_step = 0.9; }}) {
     options = {};
     options.track = true;
     bad(options.outline);

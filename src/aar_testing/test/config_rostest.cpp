@@ -399,11 +399,20 @@ TEST(Config, OutlineOffByDefaultBadValuesRefused) {
     ADD_FAILURE() << e.what();
   }
   const std::vector<std::pair<std::string, double>> bad_values = {
-      {"outline_min_quality", 1.5},      {"outline_maneuver_quality", -0.1},
-      {"outline_max_poor_frames", 0},    {"outline_start_sigma_position", 0.0},
-      {"outline_disparity_sigma", -1.0}, {"outline_contour_points", 4},
-      {"outline_covariance_scale", 0.0}, {"outline_search_radius", -1.0},
-      {"outline_start_candidates", 0}};
+      {"outline_min_quality", 1.5},
+      {"outline_maneuver_quality", -0.1},
+      {"outline_max_poor_frames", 0},
+      {"outline_start_sigma_position", 0.0},
+      {"outline_disparity_sigma", -1.0},
+      {"outline_contour_points", 4},
+      {"outline_covariance_scale", 0.0},
+      {"outline_search_radius", -1.0},
+      {"outline_start_candidates", 0},
+      {"outline_image_start_quality", 1.5},
+      {"outline_image_start_min_range", 0.0},
+      {"outline_image_start_max_range", 10.0},
+      {"outline_image_start_range_step", 1.0},
+      {"outline_image_start_min_visible", 1.5}};
   for (const auto& [key, value] : bad_values) {
     ros::NodeHandle bad("/registration_outline_bad_" + key);
     bad.setParam("track", true);

@@ -7,6 +7,8 @@
 // Environment: AAR_ALIGN_T (one path time only), AAR_ALIGN_SEARCH (the search radius [px]),
 // AAR_ALIGN_SCALES ("4,2,1"), AAR_ALIGN_DUMP (PREFIX: the outline at the truth drawn to
 // PREFIX_<t>.png), AAR_ALIGN_VERBOSE (each start's error before and after).
+// Then, by range, the start from the images alone (aar_alignment::Acquire from nothing but the
+// receiver description's contact attitude): its error, fit, share of the outline seen and time.
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
@@ -14,9 +16,11 @@
 #include <string>
 #include <vector>
 
+#include <aar_alignment/acquire.h>
 #include <aar_alignment/aligner.h>
 #include <aar_alignment/boom_parts.h>
 #include <aar_description/boom_model.h>
+#include <aar_description/receiver_description.h>
 #include <aar_geometry/pose.h>
 #include <aar_geometry/pose_error.h>
 #include <aar_occlusion/boom.h>
@@ -110,6 +114,40 @@ aar_alignment::AlignmentOptions OptionsFromEnvironment() {
   return options;
 }
 
+// The start from the images alone at each of `times` (the frames' boom masked).
+void AcquisitionTable(aar_testing::SimStereo& sim, const aar_sim::FlightPath& path,
+                      const std::vector<aar_occlusion::BoomPart>& boom,
+                      const std::vector<double>& times) {
+  const aar_alignment::OutlineAligner aligner(sim.world().receiver_mesh());
+  const auto c12 = aar_description::LoadReceiverDescription(aar_testing::ModelsDir() + "/c12.yaml");
+  std::printf("\nfrom the images alone (Acquire, default options)\n");
+  std::printf("%6s %7s | %8s %8s %7s %6s %5s %s\n", "t [s]", "range", "|dx|", "ang max", "quality",
+              "seen", "ms", "");
+  for (const double t : times) {
+    const aar_sim::FlightPathRow row = path.At(t);
+    const aar_sim::StereoFrame f =
+        sim.world().Render(row, aar_description::DefaultBoomPose(), static_cast<uint64_t>(t * 30));
+    aar_alignment::AlignmentInput in;
+    in.left = sim.Left(f), in.right = sim.Right(f);
+    in.left_camera = aar_testing::LeftCamera(sim.rig());
+    in.right_camera = aar_testing::RightCamera(sim.rig());
+    in.boom_parts_in_tanker = aar_alignment::BoomPartsInTanker(boom, f.T_tanker_links);
+    in.T_tanker_receiver_predicted = c12.T_tanker_receiver_contact;  // its attitude only
+    const aar_alignment::AcquisitionResult a = aar_alignment::Acquire(aligner, in);
+    const auto e =
+        aar_geometry::ComputePoseError(f.T_tanker_receiver, a.alignment.T_tanker_receiver);
+    const double angle =
+        std::max({std::abs(e.orientation_rad.roll), std::abs(e.orientation_rad.pitch),
+                  std::abs(e.orientation_rad.yaw)});
+    const double seen = a.alignment.outline_lines > 0
+                            ? static_cast<double>(a.alignment.lines) / a.alignment.outline_lines
+                            : 0.0;
+    std::printf("%6.1f %7.1f | %8.3f %8.3f %7.3f %6.2f %5.0f %s\n", t, row.position_m.norm(),
+                e.position_m.norm(), aar_geometry::RadToDeg(angle), a.alignment.quality, seen,
+                a.time_ms, a.valid ? "" : a.error.c_str());
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -166,5 +204,6 @@ int main(int argc, char** argv) {
                 c.quality / nc, c.lines / nc, c.ms / nc, c.failures, r.sum / nr,
                 aar_geometry::RadToDeg(r.angle), r.ms / nr, r.failures);
   }
+  AcquisitionTable(sim, path, boom, times);
   return 0;
 }

@@ -99,10 +99,17 @@ struct AlignmentResult {
   // Share of the final lines whose outline lies within 1.5 px of the projected one (fit > 1/2).
   double inlier_share = 0.0;
   int lines = 0;  // usable lines in the final iteration, both images
+  // The outline's lines at the final pose, both images, usable or not (a line is unusable when it
+  // leaves the image or crosses the boom): lines / outline_lines is the share of the outline seen.
+  int outline_lines = 0;
   Eigen::Vector2d search_shift_px = Eigen::Vector2d::Zero();  // what the coarse search moved
   int iterations = 0;
   double time_ms = 0.0;
 };
+
+// What is wrong with the input (empty or non-mono8 images, a camera of zero size or of another
+// size than its image, a non-finite prediction); empty when nothing is.
+std::string CheckAlignmentInput(const AlignmentInput& in);
 
 // Aligns the receiver's mesh to both images. Thread-safe after construction (Align is const).
 class OutlineAligner {

@@ -87,6 +87,14 @@ RegistrationNodeOptions LoadRegistrationNodeOptions(aar_ros_common::ParamReader&
   outline.start_sigma_rotation = aar_geometry::DegToRad(params.Get(
       "outline_start_sigma_rotation_deg", aar_geometry::RadToDeg(outline.start_sigma_rotation)));
   outline.disparity_sigma = params.Get("outline_disparity_sigma", outline.disparity_sigma);
+  outline.image_start = params.Get("outline_image_start", outline.image_start);
+  outline.image_start_quality =
+      params.Get("outline_image_start_quality", outline.image_start_quality);
+  aar_alignment::AcquisitionOptions& acquisition = outline.acquisition;
+  acquisition.min_range = params.Get("outline_image_start_min_range", acquisition.min_range);
+  acquisition.max_range = params.Get("outline_image_start_max_range", acquisition.max_range);
+  acquisition.range_step = params.Get("outline_image_start_range_step", acquisition.range_step);
+  acquisition.min_visible = params.Get("outline_image_start_min_visible", acquisition.min_visible);
   aar_alignment::AlignmentOptions& a = outline.alignment;
   a.contour_points = params.Get("outline_contour_points", a.contour_points);
   a.line_model =
@@ -105,6 +113,16 @@ RegistrationNodeOptions LoadRegistrationNodeOptions(aar_ros_common::ParamReader&
   params.Check(outline.start_sigma_rotation > 0.0, "outline_start_sigma_rotation_deg",
                "must be > 0");
   params.Check(outline.disparity_sigma >= 0.0, "outline_disparity_sigma", "must be >= 0");
+  params.Check(outline.image_start_quality >= 0.0 && outline.image_start_quality <= 1.0,
+               "outline_image_start_quality", "must lie in [0, 1]");
+  params.Check(acquisition.min_range > 0.0, "outline_image_start_min_range", "must be > 0");
+  params.Check(acquisition.max_range >= acquisition.min_range, "outline_image_start_max_range",
+               "must be >= outline_image_start_min_range");
+  params.Check(acquisition.range_step > 1.0, "outline_image_start_range_step", "must be > 1");
+  params.Check(acquisition.min_visible >= 0.0 && acquisition.min_visible <= 1.0,
+               "outline_image_start_min_visible", "must lie in [0, 1]");
+  params.Check(!outline.image_start || outline.enabled, "outline_image_start",
+               "needs outline: true");
   params.Check(a.contour_points >= 8, "outline_contour_points", "must be >= 8");
   params.Check(a.search_radius_px >= 0.0, "outline_search_radius", "must be >= 0");
   params.Check(a.covariance_scale > 0.0, "outline_covariance_scale", "must be > 0");

@@ -1,0 +1,52 @@
+#pragma once
+
+#include <string>
+
+#include "aar_alignment/aligner.h"
+
+namespace aar_alignment {
+
+// Acquisition from the images alone (issue 27; not in the thesis): where stereo gives the tracker
+// nothing to start from (far out the receiver yields a few dozen points, and behind the boom
+// none), its silhouette at the expected attitude is searched over the whole left image at ranges
+// from min_range to max_range (SearchShift at each, the boom masked), the placements whose
+// outline fits best (OutlineAligner::Score) are aligned in both images (OutlineAligner::Align, from
+// a prior long along the line of sight: the outline's size fixes the range), and the best fit is
+// the result.
+struct AcquisitionOptions {
+  double min_range = 50.0;   // [m] from the left camera along its axis
+  double max_range = 200.0;  // [m]
+  double range_step = 1.15;  // ratio of neighbouring ranges searched
+  int template_size = 32;    // [px] the silhouette's size in the image-wide search
+  int candidates = 3;        // placements aligned: those that fit best (one per range)
+  // Share of the outline's lines that must be seen (inside the image, not behind the boom), at a
+  // placement and at its alignment: a silhouette mostly behind the boom fits on its few visible
+  // lines in many wrong places (far out, farther and smaller receivers whose fuselage the boom
+  // hides fit the real one's wingtips).
+  double min_visible = 0.6;
+  // The prior of an alignment from a placement: across the line of sight [m], about the expected
+  // attitude [rad]; along the line of sight it is the range grid's step at that range.
+  double sigma_across = 1.0;
+  double sigma_rotation = 0.05;
+
+  // Throws std::invalid_argument naming the field that is out of range.
+  void Validate() const;
+};
+
+struct AcquisitionResult {
+  bool valid = false;  // an alignment; otherwise `error` says why not
+  std::string error;
+  AlignmentResult alignment;  // the best fitting of the aligned placements
+  double range_m = 0.0;       // [m] the range of the placement it was aligned from
+  double search_score = 0.0;  // that placement's search score (SearchShiftResult::score)
+  int ranges = 0;             // ranges whose search found a placement
+  int aligned = 0;            // placements aligned
+  double time_ms = 0.0;
+};
+
+// `in`'s images, cameras and boom; its predicted pose gives only the attitude searched at (its
+// position is ignored). Never throws for bad images (valid = false and why).
+AcquisitionResult Acquire(const OutlineAligner& aligner, const AlignmentInput& in,
+                          const AcquisitionOptions& options = {});
+
+}  // namespace aar_alignment

@@ -1,0 +1,128 @@
+#include "aar_alignment/acquire.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+#include <vector>
+
+#include "aar_alignment/boom_parts.h"
+#include "aar_alignment/search.h"
+
+namespace aar_alignment {
+namespace {
+
+struct Placement {
+  double score = 0.0;  // the search's
+  double fit = 0.0;    // the outline's there (OutlineAligner::Score)
+  double range = 0.0;  // [m]
+  Eigen::Isometry3d T_tanker_receiver = Eigen::Isometry3d::Identity();
+};
+
+// The receiver at `attitude`, `range` [m] along the left camera's ray through the image's centre.
+Eigen::Isometry3d AtImageCentre(const PinholeCamera& c, const Eigen::Matrix3d& attitude,
+                                double range) {
+  const Eigen::Vector3d optical(0.5 * (c.width - 1) - c.cx, 0.5 * (c.height - 1) - c.cy, 0.0);
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = attitude;
+  T.translation() = c.T_tanker_optical *
+                    Eigen::Vector3d(optical.x() * range / c.fx, optical.y() * range / c.fy, range);
+  return T;
+}
+
+// The prior of an alignment from `p`: `along` [m] along the left camera's ray to it, `across`
+// [m] across it, `rotation` [rad].
+Matrix6d PlacementCovariance(const PinholeCamera& c, const Placement& p, double along,
+                             double across, double rotation) {
+  const Eigen::Vector3d u =
+      (p.T_tanker_receiver.translation() - c.T_tanker_optical.translation()).normalized();
+  Matrix6d covariance = Matrix6d::Zero();
+  covariance.topLeftCorner<3, 3>() = across * across * Eigen::Matrix3d::Identity() +
+                                     (along * along - across * across) * u * u.transpose();
+  covariance.bottomRightCorner<3, 3>() = rotation * rotation * Eigen::Matrix3d::Identity();
+  return covariance;
+}
+
+double MsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+      .count();
+}
+
+}  // namespace
+
+void AcquisitionOptions::Validate() const {
+  auto fail = [](const std::string& what) { throw std::invalid_argument("acquisition: " + what); };
+  if (!(min_range > 0.0) || !(max_range >= min_range))
+    fail("min_range must be > 0 and max_range >= min_range");
+  if (!(range_step > 1.0)) fail("range_step must be > 1");
+  if (template_size < 8) fail("template_size must be at least 8 px");
+  if (candidates < 1) fail("candidates must be at least 1");
+  if (!(min_visible >= 0.0 && min_visible <= 1.0)) fail("min_visible must lie in [0, 1]");
+  if (!(sigma_across > 0.0) || !(sigma_rotation > 0.0))
+    fail("sigma_across and sigma_rotation must be > 0");
+}
+
+AcquisitionResult Acquire(const OutlineAligner& aligner, const AlignmentInput& in,
+                          const AcquisitionOptions& o) {
+  const auto start = std::chrono::steady_clock::now();
+  AcquisitionResult out;
+  out.error = CheckAlignmentInput(in);
+  if (!out.error.empty()) return out;
+  const PinholeCamera& c = in.left_camera;
+  auto seen = [&o](const AlignmentResult& r) {
+    return r.valid && r.lines >= o.min_visible * r.outline_lines;
+  };
+  const cv::Mat boom = BoomMask(c, in.boom_parts_in_tanker, aligner.options().boom_margin_px);
+  ShiftSearchOptions search;
+  search.radius_px = 0.5 * std::max(c.width, c.height) + 1.0;  // the whole image
+  search.template_size = o.template_size;
+  search.uniform_scores_zero = true;
+  std::vector<Placement> placements;
+  for (double range = o.min_range; range <= o.max_range * (1.0 + 1e-9); range *= o.range_step) {
+    const ShiftSearchResult s =
+        SearchShift(aligner.model(), in.left, boom, c,
+                    AtImageCentre(c, in.T_tanker_receiver_predicted.linear(), range), search);
+    if (!s.valid) continue;
+    ++out.ranges;
+    AlignmentInput a = in;
+    a.T_tanker_receiver_predicted = s.T_tanker_receiver;
+    const AlignmentResult fit = aligner.Score(a);
+    if (seen(fit)) placements.push_back({s.score, fit.quality, range, s.T_tanker_receiver});
+  }
+  if (placements.empty()) {
+    out.error =
+        out.ranges == 0
+            ? "the silhouette fits the left image at none of the ranges searched"
+            : "where the silhouette fits best, less than min_visible of its outline is seen";
+    out.time_ms = MsSince(start);
+    return out;
+  }
+  // The search finds where the receiver lies in the image at every range alike; the outline's fit
+  // there tells the ranges apart (the search's score grows as the silhouette shrinks).
+  std::sort(placements.begin(), placements.end(),
+            [](const Placement& a, const Placement& b) { return a.fit > b.fit; });
+  placements.resize(std::min<size_t>(placements.size(), o.candidates));
+  for (const Placement& p : placements) {
+    AlignmentInput a = in;
+    a.T_tanker_receiver_predicted = p.T_tanker_receiver;
+    a.prediction_covariance =
+        PlacementCovariance(c, p, p.range * (o.range_step - 1.0), o.sigma_across, o.sigma_rotation);
+    const AlignmentResult r = aligner.Align(a);
+    ++out.aligned;
+    if (!seen(r)) {
+      if (out.error.empty())
+        out.error = r.valid ? "aligned, less than min_visible of the outline is seen" : r.error;
+      continue;
+    }
+    if (out.valid && r.quality <= out.alignment.quality) continue;
+    out.valid = true;
+    out.alignment = r;
+    out.range_m = p.range;
+    out.search_score = p.score;
+  }
+  if (out.valid) out.error.clear();
+  out.time_ms = MsSince(start);
+  return out;
+}
+
+}  // namespace aar_alignment
