@@ -239,15 +239,26 @@ Matrix6d Registrar::IcpCovariance(const RegistrarResult& out, const OutlineFrame
   return covariance;
 }
 
-aar_alignment::AlignmentResult Registrar::AlignOutline(const OutlineFrame& frame,
-                                                       const Eigen::Isometry3d& T,
-                                                       const Matrix6d& covariance,
-                                                       RegistrarResult& out) const {
+namespace {
+
+// The frame's images, cameras and boom, with `T` as the prediction.
+aar_alignment::AlignmentInput AlignmentInputOf(const OutlineFrame& frame,
+                                               const Eigen::Isometry3d& T) {
   aar_alignment::AlignmentInput in;
   in.left = frame.left, in.right = frame.right;
   in.left_camera = frame.left_camera, in.right_camera = frame.right_camera;
   in.boom_parts_in_tanker = frame.boom_parts_in_tanker;
   in.T_tanker_receiver_predicted = T;
+  return in;
+}
+
+}  // namespace
+
+aar_alignment::AlignmentResult Registrar::AlignOutline(const OutlineFrame& frame,
+                                                       const Eigen::Isometry3d& T,
+                                                       const Matrix6d& covariance,
+                                                       RegistrarResult& out) const {
+  aar_alignment::AlignmentInput in = AlignmentInputOf(frame, T);
   in.prediction_covariance = covariance;
   out.outline = aligner_->Align(in);
   out.outline_ran = true;
@@ -338,11 +349,9 @@ void Registrar::Start(double stamp_s, const std::vector<Eigen::Vector3d>& sensed
 
 bool Registrar::ImageStart(double stamp_s, const OutlineFrame& frame, RegistrarResult& out,
                            std::string& why) {
-  aar_alignment::AlignmentInput in;
-  in.left = frame.left, in.right = frame.right;
-  in.left_camera = frame.left_camera, in.right_camera = frame.right_camera;
-  in.boom_parts_in_tanker = frame.boom_parts_in_tanker;
-  in.T_tanker_receiver_predicted = options_.T_tanker_receiver_nominal;  // its attitude
+  // The nominal pose gives the attitude searched at; Acquire ignores its position.
+  const aar_alignment::AlignmentInput in =
+      AlignmentInputOf(frame, options_.T_tanker_receiver_nominal);
   const aar_alignment::AcquisitionResult a =
       aar_alignment::Acquire(*aligner_, in, options_.outline.acquisition);
   out.outline = a.alignment;
