@@ -98,6 +98,8 @@ std::vector<BoomPart> LoadBoomParts(const aar_geometry::RobotModel& model,
 BoomOcclusion::BoomOcclusion(std::vector<BoomPart> parts, const BoomOcclusionOptions& options)
     : parts_(std::move(parts)), options_(options) {
   if (parts_.empty()) throw std::invalid_argument("BoomOcclusion: no boom parts");
+  if (!(options_.cull_depth_coefficient >= 0.0))
+    throw std::invalid_argument("BoomOcclusion: cull_depth_coefficient must be >= 0");
 }
 
 BoomOcclusion::~BoomOcclusion() = default;
@@ -198,11 +200,17 @@ bool BoomOcclusion::Update(const std::map<std::string, Eigen::Isometry3d>& T_tan
   return true;
 }
 
-bool BoomOcclusion::CullVolume::Contains(const Eigen::Vector3d& p) const {
+bool BoomOcclusion::CullVolume::Contains(const Eigen::Vector3d& p, const Eigen::Vector3d& eye,
+                                         double depth_margin) const {
   // The outline's cone lies inside the grown part's: outside that, outside both.
   if (!cone.Contains(p)) return false;
   if (far_side.planes.empty()) return true;  // the whole ray
-  return far_side.Contains(p) || outline.Contains(p);
+  const Eigen::Vector3d q = depth_margin > 0.0 ? p - depth_margin * (p - eye).normalized() : p;
+  return far_side.Contains(q) || outline.Contains(p);
+}
+
+double BoomOcclusion::DepthMargin(const Eigen::Vector3d& p) const {
+  return options_.cull_depth_coefficient * (p - eyes_[0]).squaredNorm();
 }
 
 void BoomOcclusion::BuildRayTargets() const {
@@ -255,8 +263,16 @@ std::vector<bool> BoomOcclusion::Cull(const std::vector<Eigen::Vector3d>& points
     for (size_t i = 0; i < points.size(); ++i) directions[i] = (points[i] - eyes_[0]).normalized();
   }
   // Rays: from the eye through the point against the grown boom (thesis), or else from the point
-  // on away from the eye against the grown boom (it hits exactly when the point is in front of
-  // the far side) and from the eye through the point against the outline.
+  // (moved toward the eye by its depth margin) on away from the eye against the grown boom (it
+  // hits exactly when the point is in front of the far side) and from the eye through the point
+  // against the outline.
+  std::vector<Eigen::Vector3d> starts;  // the points moved toward the eye by their depth margin
+  if (!behind && (method == CullMethod::kRaysBrute || method == CullMethod::kRaysBvh)) {
+    starts = points;
+    for (size_t i = 0; i < points.size(); ++i) {
+      if (directions[i].allFinite()) starts[i] -= DepthMargin(points[i]) * directions[i];
+    }
+  }
   switch (method) {
     case CullMethod::kNone:
       break;
@@ -265,12 +281,12 @@ std::vector<bool> BoomOcclusion::Cull(const std::vector<Eigen::Vector3d>& points
         const Eigen::Vector3d& d = directions[i];
         if (!d.allFinite()) continue;
         boom[i] = behind ? grown_.HitsBrute(eyes_[0], d)
-                         : grown_.HitsBrute(points[i], d) || outline_.HitsBrute(eyes_[0], d);
+                         : grown_.HitsBrute(starts[i], d) || outline_.HitsBrute(eyes_[0], d);
       }
       break;
     case CullMethod::kRaysBvh: {
       const std::vector<Eigen::Vector3d> eye(points.size(), eyes_[0]);
-      boom = grown_.bvh->RaysHit(behind ? eye : points, directions);
+      boom = grown_.bvh->RaysHit(behind ? eye : starts, directions);
       if (!behind) {
         const std::vector<bool> through = outline_.bvh->RaysHit(eye, directions);
         for (size_t i = 0; i < points.size(); ++i) boom[i] = boom[i] || through[i];
@@ -280,8 +296,9 @@ std::vector<bool> BoomOcclusion::Cull(const std::vector<Eigen::Vector3d>& points
     case CullMethod::kVolumes:
       for (size_t i = 0; i < points.size(); ++i) {
         if (!points[i].allFinite()) continue;  // as the rays: no direction, not boom
+        const double margin = DepthMargin(points[i]);
         for (const auto& v : cull_) {
-          if (v.Contains(points[i])) {
+          if (v.Contains(points[i], eyes_[0], margin)) {
             boom[i] = true;
             break;
           }

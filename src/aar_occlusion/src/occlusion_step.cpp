@@ -95,6 +95,7 @@ OcclusionStep::OcclusionStep(const OcclusionStepOptions& options,
 OcclusionStep::~OcclusionStep() = default;
 
 bool OcclusionStep::UsesBoom(bool volumes_wanted) const {
+  if (!options_.model_boom) return false;
   return options_.cull != CullMethod::kNone || reference_ || volumes_wanted;
 }
 

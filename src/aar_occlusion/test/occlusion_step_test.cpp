@@ -100,6 +100,29 @@ TEST(OcclusionStep, WithoutTheBoomFramesPassThroughAndSayWhy) {
   EXPECT_EQ(none.reference_error, "no predicted pose: no estimate, no points");
 }
 
+// model_boom false (flight_no_boom, a tanker without a boom): the boom given is ignored without
+// an error; nothing is culled, no link is needed, and the reference hides only what the receiver
+// hides of itself, so it holds more than with the boom modelled.
+TEST(OcclusionStep, ABoomNotModelledCullsNothingAndHidesNothing) {
+  Scene s;
+  s.input.T_tanker_receiver_predicted = s.T_tanker_receiver;
+  OcclusionStepOptions options;
+  options.model_boom = false;
+  OcclusionStep step(options, s.boom, "", &s.receiver);
+  EXPECT_FALSE(step.NeedsLinks(true));
+  const OcclusionResult r = step.Process(s.input);
+  EXPECT_FALSE(r.boom_placed);
+  EXPECT_TRUE(r.cull_error.empty()) << r.cull_error;
+  EXPECT_TRUE(r.removed.empty());
+  EXPECT_EQ(r.kept.size(), s.input.points.size());
+  ASSERT_TRUE(r.has_reference) << r.reference_error;
+  OcclusionStep modelled(OcclusionStepOptions{}, s.boom, "", &s.receiver);
+  const OcclusionResult with_boom = modelled.Process(s.input);
+  std::printf("[ step ] reference seen by both cameras: %zu with the boom modelled, %zu without\n",
+              with_boom.reference.both, r.reference.both);
+  EXPECT_GT(r.reference.both, with_boom.reference.both);
+}
+
 // A corrupt cloud: finite coordinates of 1e20 and 3e38 among the real points. They leave before
 // anything else (they would put the centroid seed 1e19 m away); the rest is culled as before,
 // the indices still into the input.

@@ -1,38 +1,19 @@
 #include "aar_registration/icp.h"
 
+#include "icp_target.h"
+
 #include <cmath>
 #include <stdexcept>
 
-#include <pcl/point_types.h>
-#include <pcl/registration/gicp.h>
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 #include <Eigen/SVD>
-#include <nanoflann.hpp>
 
 namespace aar_registration {
 namespace {
 
 // [m] PCL's GICP takes a distance: this one admits every pair on any aircraft-sized scene.
 constexpr double kNoGate = 1e6;
-
-struct PointSet {
-  std::vector<Eigen::Vector3d> pts;
-  size_t kdtree_get_point_count() const { return pts.size(); }
-  double kdtree_get_pt(size_t i, size_t dim) const { return pts[i][static_cast<int>(dim)]; }
-  template <class Box>
-  bool kdtree_get_bbox(Box&) const {
-    return false;
-  }
-};
-
-using KdTree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, PointSet>,
-                                                   PointSet, 3>;
-
-// PCL keeps its iteration count protected.
-struct Gicp : pcl::GeneralizedIterativeClosestPoint<pcl::PointXYZ, pcl::PointXYZ> {
-  int iterations() const { return nr_iterations_; }
-};
 
 pcl::PointCloud<pcl::PointXYZ>::Ptr ToPcl(const std::vector<Eigen::Vector3d>& points) {
   pcl::PointCloud<pcl::PointXYZ>::Ptr cloud(new pcl::PointCloud<pcl::PointXYZ>);
@@ -47,13 +28,6 @@ pcl::PointCloud<pcl::PointXYZ>::Ptr ToPcl(const std::vector<Eigen::Vector3d>& po
 
 }  // namespace
 
-struct Icp::Target {
-  PointSet set;
-  std::vector<Eigen::Vector3d> normals;
-  std::unique_ptr<KdTree> tree;
-  std::unique_ptr<Gicp> gicp;  // kGeneralizedPcl: target covariances computed once, then reused
-};
-
 Icp::Icp(const IcpOptions& options) : options_(options) {
   if (options.max_iterations < 1) throw std::invalid_argument("max_iterations must be at least 1");
   if (!(options.max_correspondence_distance >= 0.0)) {
@@ -67,6 +41,11 @@ Icp::Icp(const IcpOptions& options) : options_(options) {
     throw std::invalid_argument("independent_correspondences must be at least 1");
   if (!(options.min_residual_sigma >= 0.0))
     throw std::invalid_argument("min_residual_sigma must be >= 0");
+  const StereoNoise& n = options.stereo;
+  if (!(n.ray_sigma_coefficient >= 0.0))
+    throw std::invalid_argument("stereo ray_sigma_coefficient must be >= 0");
+  if (!(n.plane_sigma > 0.0)) throw std::invalid_argument("stereo plane_sigma must be > 0");
+  if (!(n.ray_reach > 0.0)) throw std::invalid_argument("stereo ray_reach must be > 0");
 }
 
 Icp::~Icp() = default;
@@ -80,8 +59,10 @@ void Icp::SetTarget(std::vector<Eigen::Vector3d> points, std::vector<Eigen::Vect
   for (const auto& p : points) {
     if (!p.allFinite()) throw std::invalid_argument("ICP target holds a non-finite point");
   }
-  if (options_.metric == IcpMetric::kPointToPlane && normals.size() != points.size()) {
-    throw std::invalid_argument("point-to-plane ICP needs a normal per target point");
+  const bool planes =
+      options_.metric == IcpMetric::kPointToPlane || options_.metric == IcpMetric::kStereoRays;
+  if (planes && normals.size() != points.size()) {
+    throw std::invalid_argument("point-to-plane and stereo-ray ICP need a normal per target point");
   }
   auto target = std::make_unique<Target>();
   target->set.pts = std::move(points);
@@ -104,8 +85,14 @@ void Icp::SetTarget(std::vector<Eigen::Vector3d> points, std::vector<Eigen::Vect
 }
 
 RegistrationResult Icp::Align(const std::vector<Eigen::Vector3d>& source,
-                              const Eigen::Isometry3d& guess) const {
+                              const Eigen::Isometry3d& guess,
+                              const Eigen::Vector3d* source_eye) const {
   if (!has_target()) throw std::invalid_argument("ICP has no target");
+  if (options_.metric == IcpMetric::kStereoRays) {
+    if (source_eye == nullptr || !source_eye->allFinite())
+      throw std::invalid_argument("stereo-ray ICP needs the camera's position (source_eye)");
+    return AlignAlongRays(*target_, options_, source, guess, *source_eye);
+  }
   RegistrationResult result;
   result.T_target_source = guess;
   const double max_d2 =

@@ -94,7 +94,7 @@ TrackPrediction Registrar::Predict(double stamp_s) const {
 
 void Registrar::Align(const std::vector<Eigen::Vector3d>& sensed, const Eigen::Isometry3d& seed,
                       RegistrarResult& out) const {
-  out.icp = icp_.Align(sensed, seed.inverse());
+  out.icp = icp_.Align(sensed, seed.inverse(), eye_ ? &*eye_ : nullptr);
   if (out.icp.correspondences < options_.icp.min_correspondences) {
     const double gate = options_.icp.max_correspondence_distance;
     throw std::runtime_error(
@@ -121,8 +121,11 @@ Matrix6d CovarianceInTanker(const Matrix6d& icp_covariance,
 }
 
 RegistrarResult Registrar::Register(const std::vector<Eigen::Vector3d>& all_sensed, double stamp_s,
-                                    const OutlineFrame* outline) {
+                                    const OutlineFrame* outline,
+                                    const Eigen::Vector3d* left_eye_in_tanker) {
   const auto start = std::chrono::steady_clock::now();
+  eye_.reset();
+  if (left_eye_in_tanker) eye_ = *left_eye_in_tanker;
   RegistrarResult out;
   out.tracking = options_.track;
   out.reference_points = reference_points_.size();

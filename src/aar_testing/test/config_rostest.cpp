@@ -48,12 +48,19 @@ TEST(Config, EveryExperimentLoadsIntoEveryNode) {
         EXPECT_TRUE(occlusion.step.boom.cull_behind_boom);
         EXPECT_EQ(registration.registrar.reference, aar_registration::ReferenceKind::kWingsNose);
       }
-      const bool ours =
-          name == "tracking" || name == "tracking_robust" || name == "tracking_outline";
-      const bool robust = name == "tracking_robust" || name == "tracking_outline";
-      // tracking_outline: tracking_robust and the outline; nothing else has the outline.
-      EXPECT_EQ(registration.registrar.outline.enabled, name == "tracking_outline") << name;
-      if (name == "tracking_outline") {
+      const bool flight = name == "flight" || name == "flight_no_boom";
+      const bool outline = name == "tracking_outline" || flight;
+      const bool ours = name == "tracking" || name == "tracking_robust" || outline;
+      const bool robust = name == "tracking_robust" || outline;
+      // tracking_outline: tracking_robust and the outline; flight: tracking_outline's settings
+      // (FlightHoldsTrackingOutlinesSettings); nothing else has the outline.
+      EXPECT_EQ(registration.registrar.outline.enabled, outline) << name;
+      // flight_no_boom: flight with the boom hidden and modelled by no stage.
+      EXPECT_EQ(sim.world.boom_visible, name != "flight_no_boom" && name != "no_boom") << name;
+      EXPECT_EQ(occlusion.step.model_boom, name != "flight_no_boom") << name;
+      EXPECT_EQ(registration.model_boom, name != "flight_no_boom") << name;
+      EXPECT_EQ(stereo.roi.include_boom, name != "flight_no_boom") << name;
+      if (outline) {
         EXPECT_EQ(registration.registrar.outline.disparity_sigma, 0.25);
       } else {
         EXPECT_EQ(registration.registrar.outline.disparity_sigma, 0.0) << name;
@@ -108,8 +115,9 @@ TEST(Config, EveryExperimentLoadsIntoEveryNode) {
       ADD_FAILURE() << "experiment " << name << ": " << e.what();
     }
   }
-  // The thesis's four, tracking, tracking_robust, tracking_outline, the two ablations.
-  EXPECT_EQ(experiments, 9);
+  // The thesis's four, tracking, tracking_robust, tracking_outline, flight, flight_no_boom, the
+  // two ablations.
+  EXPECT_EQ(experiments, 11);
 }
 
 // Every camera mount in config/mounts/ loads into the simulator over config/sim.yaml and moves
@@ -381,6 +389,73 @@ TEST(Config, ReceiverGateOffByDefaultBadValuesRefused) {
     try {
       aar_occlusion::LoadOcclusionNodeOptions(bad);
       ADD_FAILURE() << key << " = -1 was accepted";
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find(bad.getNamespace() + "/" + key), std::string::npos)
+          << e.what();
+    }
+  }
+}
+
+// flight is tracking_outline's settings under the name users fly with, and flight_no_boom is
+// flight with the boom hidden and modelled by no stage: every other key the same.
+TEST(Config, FlightHoldsTrackingOutlinesSettings) {
+  const auto tree = [](const std::string& experiment) {
+    XmlRpc::XmlRpcValue value;
+    EXPECT_TRUE(ros::NodeHandle("/experiment_" + experiment).getParam("", value)) << experiment;
+    return value;
+  };
+  XmlRpc::XmlRpcValue outline = tree("tracking_outline"), flight = tree("flight"),
+                      no_boom = tree("flight_no_boom");
+  EXPECT_TRUE(flight.toXml() == outline.toXml()) << "flight differs from tracking_outline";
+  EXPECT_FALSE(static_cast<bool>(no_boom["sim"]["boom"]));
+  EXPECT_FALSE(static_cast<bool>(no_boom["occlusion"]["model_boom"]));
+  EXPECT_FALSE(static_cast<bool>(no_boom["registration"]["model_boom"]));
+  EXPECT_FALSE(static_cast<bool>(no_boom["stereo"]["aar_stereo"]["roi_include_boom"]));
+  no_boom["sim"]["boom"] = true;
+  XmlRpc::XmlRpcValue occlusion, registration;
+  for (auto& [key, value] : no_boom["occlusion"]) {
+    if (key != "model_boom") occlusion[key] = value;
+  }
+  for (auto& [key, value] : no_boom["registration"]) {
+    if (key != "model_boom") registration[key] = value;
+  }
+  no_boom["stereo"]["aar_stereo"]["roi_include_boom"] = true;  // config/stereo.yaml's
+  no_boom["occlusion"] = occlusion;
+  no_boom["registration"] = registration;
+  // (Compared as text, not printed: a parameter tree is pages long.)
+  EXPECT_TRUE(no_boom.toXml() == flight.toXml()) << "flight_no_boom differs from flight";
+}
+
+// Issue 29's options are off unless asked for (the boom modelled, no depth margin, the thesis's
+// point-to-point ICP); out-of-range values are refused naming the key.
+TEST(Config, StereoRaysAndDepthMarginOffByDefaultBadValuesRefused) {
+  try {
+    const auto occlusion =
+        aar_occlusion::LoadOcclusionNodeOptions(ros::NodeHandle("/occlusion_default"));
+    EXPECT_EQ(occlusion.step.boom.cull_depth_coefficient, 0.0);
+    EXPECT_TRUE(occlusion.step.model_boom);
+    const auto registration = aar_registration::LoadRegistrationNodeOptions(
+        ros::NodeHandle("/registration_outline_default"));
+    EXPECT_EQ(registration.registrar.icp.metric, aar_registration::IcpMetric::kPointToPoint);
+    EXPECT_TRUE(registration.model_boom);
+  } catch (const std::exception& e) {
+    ADD_FAILURE() << e.what();
+  }
+  const std::vector<std::tuple<std::string, std::string, double>> bad_values = {
+      {"occlusion", "cull_depth_coefficient", -0.001},
+      {"registration", "icp_ray_sigma_coefficient", -0.001},
+      {"registration", "icp_plane_sigma", 0.0},
+      {"registration", "icp_ray_reach", -1.0}};
+  for (const auto& [node, key, value] : bad_values) {
+    ros::NodeHandle bad("/" + node + "_issue29_bad_" + key);
+    bad.setParam(key, value);
+    try {
+      if (node == "occlusion") {
+        aar_occlusion::LoadOcclusionNodeOptions(bad);
+      } else {
+        aar_registration::LoadRegistrationNodeOptions(bad);
+      }
+      ADD_FAILURE() << key << " = " << value << " was accepted";
     } catch (const std::invalid_argument& e) {
       EXPECT_NE(std::string(e.what()).find(bad.getNamespace() + "/" + key), std::string::npos)
           << e.what();

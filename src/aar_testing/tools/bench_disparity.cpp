@@ -8,10 +8,11 @@
 // cloud (every 8th point, the boom culled) is registered from the true pose against the dynamic
 // reference built at the true pose, with tracking_robust's ICP (point-to-point, 1 m pairs, at
 // most 3,000 points): the offset it settles at [cm, deg], receiver frame, is what stereo's points
-// alone make ICP believe; and the same with point-to-plane. Two rows change only the registered
-// cloud of read-noise frames: zero-mean disparity noise along each ray, or a share of the points
-// dropped at random (which of the two does the sensor model's harm?); the last two build it with
-// aar_stereo's median_filter 5 (does less scatter undo it?).
+// alone make ICP believe; and the same with point-to-plane, and with stereo rays (pairs along the
+// camera rays, weighted by the noise along them: flight's ICP, issue 29) in x and pitch. Two rows
+// change only the registered cloud of read-noise frames: zero-mean disparity noise along each ray,
+// or a share of the points dropped at random (which of the two does the sensor model's harm?); the
+// last two build it with aar_stereo's median_filter 5 (does less scatter undo it?).
 //   bench_disparity [FRAMES] [FIRST_T] [LAST_T]
 #include <algorithm>
 #include <cmath>
@@ -73,9 +74,9 @@ int main(int argc, char** argv) {
     const auto path = aar_sim::FlightPath::Load(std::getenv("AAR_FLIGHT_PATH")
                                                     ? std::getenv("AAR_FLIGHT_PATH")
                                                     : aar_testing::DefaultApproachPath());
-    std::printf("%-28s %9s %10s %8s %11s %9s %10s %8s %9s %10s %11s\n", "sensor", "interior",
-                "mean[px]", "sd[px]", "range[cm]", "receiver", "mean[px]", "outline", "icp x[cm]",
-                "pitch[deg]", "plane x[cm]");
+    std::printf("%-28s %9s %10s %8s %11s %9s %10s %8s %9s %10s %11s %10s %10s\n", "sensor",
+                "interior", "mean[px]", "sd[px]", "range[cm]", "receiver", "mean[px]", "outline",
+                "icp x[cm]", "pitch[deg]", "plane x[cm]", "rays x[cm]", "rays pitch");
     for (const Variant& v : variants) {
       aar_sim::WorldOptions w = aar_testing::SimStereo::DefaultWorld();
       w.sensor.noise_stddev = v.read_noise;
@@ -99,8 +100,12 @@ int main(int argc, char** argv) {
       aar_registration::IcpOptions plane_options = icp_options;  // the same, point-to-plane
       plane_options.metric = aar_registration::IcpMetric::kPointToPlane;
       aar_registration::Icp icp_plane(plane_options);
+      aar_registration::IcpOptions ray_options = icp_options;  // the same, pairs along the rays
+      ray_options.metric = aar_registration::IcpMetric::kStereoRays;
+      aar_registration::Icp icp_rays(ray_options);
       std::mt19937 rng(1), synth(2);
-      Stats offset_x, offset_pitch, plane_x;  // [m], [deg] of the registered pose against the truth
+      Stats offset_x, offset_pitch, plane_x, rays_x,
+          rays_pitch;  // [m], [deg] of the registered pose against the truth
       const double fB = sim.geometry().fx * sim.geometry().baseline();  // [px m]
       Stats stats, all, depth_m;  // interior, every receiver pixel, interior depth [m]
       long outline = 0;
@@ -156,6 +161,13 @@ int main(int argc, char** argv) {
                           .x());
           offset_pitch.Add(aar_geometry::RollPitchYawFromRotation(offset.linear()).pitch * 180.0 /
                            M_PI);
+          icp_rays.SetTarget(reference, normals);
+          const Eigen::Vector3d eye = T_receiver_tanker * sim.left_eye();
+          const Eigen::Isometry3d rays =
+              icp_rays.Align(sensed, Eigen::Isometry3d::Identity(), &eye).T_target_source.inverse();
+          rays_x.Add(rays.translation().x());
+          rays_pitch.Add(aar_geometry::RollPitchYawFromRotation(rays.linear()).pitch * 180.0 /
+                         M_PI);
         }
         cv::Mat receiver(k.height, k.width, CV_8UC1);
         for (int p = 0; p < k.width * k.height; ++p)
@@ -183,10 +195,11 @@ int main(int argc, char** argv) {
       }
       // The range offset that mean disparity error makes at the mean depth: z^2 / (f B) * e.
       const double z = depth_m.mean();
-      std::printf("%-28s %9ld %10.4f %8.4f %11.2f %9ld %10.4f %8ld %9.2f %10.3f %11.2f\n", v.name,
-                  stats.n, stats.mean(), stats.sd(), -100.0 * z * z / fB * stats.mean(), all.n,
-                  all.mean(), outline, 100.0 * offset_x.mean(), offset_pitch.mean(),
-                  100.0 * plane_x.mean());
+      std::printf(
+          "%-28s %9ld %10.4f %8.4f %11.2f %9ld %10.4f %8ld %9.2f %10.3f %11.2f %10.2f %10.3f\n",
+          v.name, stats.n, stats.mean(), stats.sd(), -100.0 * z * z / fB * stats.mean(), all.n,
+          all.mean(), outline, 100.0 * offset_x.mean(), offset_pitch.mean(), 100.0 * plane_x.mean(),
+          100.0 * rays_x.mean(), rays_pitch.mean());
     }
   } catch (const std::exception& e) {
     std::fprintf(stderr, "bench_disparity: %s\n", e.what());

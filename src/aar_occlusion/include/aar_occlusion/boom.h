@@ -72,6 +72,13 @@ struct BoomOcclusionOptions {
   // anything on a ray through the boom grown by the cull margin is boom, in front or behind
   // (the thesis's ray test), which also removes the receiver seen within the margin's shadow.
   bool cull_behind_boom = false;
+  // [1/m] Off (0, thesis), the far side is where the grown boom ends. Above 0 (ours, issue 29),
+  // a point counts as in front of the far side when it lies up to cull_depth_coefficient * Z^2
+  // beyond it along its ray (Z its range from the left eye): stereo scatters a point along its
+  // ray by sigma_Z = Z^2 sigma_d / (f b), 0.2 m at 30 m for 0.25 px on the shipped rig, more
+  // than the cull margin, so the boom's own points land behind its far side and stay.
+  // k sigma_d / (f b) covers k sigmas.
+  double cull_depth_coefficient = 0.0;
 };
 
 // The boom's shadow volumes for two eyes and its cull volumes for the left eye, all in the tanker
@@ -108,7 +115,9 @@ class BoomOcclusion {
   // that cut it at the far side (empty with cull_behind_boom), and the outline's cone.
   struct CullVolume {
     ConvexVolume cone, far_side, outline;
-    bool Contains(const Eigen::Vector3d& p) const;
+    // `p` moved `depth_margin` [m] toward `eye` along its ray for the far side.
+    bool Contains(const Eigen::Vector3d& p, const Eigen::Vector3d& eye,
+                  double depth_margin = 0.0) const;
   };
   const std::vector<CullVolume>& cull_volumes() const { return cull_; }
 
@@ -123,6 +132,7 @@ class BoomOcclusion {
     void Build(const aar_geometry::TriangleMesh& mesh);
   };
   void BuildRayTargets() const;  // on first use: only the ray methods need them
+  double DepthMargin(const Eigen::Vector3d& p) const;  // [m] cull_depth_coefficient's, at p
 
   std::vector<BoomPart> parts_;
   BoomOcclusionOptions options_;

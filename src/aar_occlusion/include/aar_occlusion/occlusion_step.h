@@ -24,6 +24,9 @@ struct PropellerDisc {
 };
 
 struct OcclusionStepOptions {
+  // false: the tanker flies no boom (a receiver-only rig, or the boom hidden to measure what it
+  // costs): nothing is culled and the reference accounts for the receiver's self-occlusion only.
+  bool model_boom = true;
   CullMethod cull = CullMethod::kVolumes;  // how boom points leave the sensed cloud
   BoomPartsOptions parts;                  // the cull and silhouette margins
   BoomOcclusionOptions boom;               // cull_behind_boom: the thesis's whole-ray test

@@ -22,7 +22,9 @@ OcclusionNode::OcclusionNode(ros::NodeHandle nh, ros::NodeHandle private_nh,
   std::optional<aar_geometry::RobotModel> boom;
   std::string boom_error;
   std::string urdf;
-  if (!nh_.getParam(options_.robot_description, urdf)) {
+  if (!options_.step.model_boom) {
+    ROS_INFO("occlusion: model_boom is false: no boom, nothing culled, self-occlusion only");
+  } else if (!nh_.getParam(options_.robot_description, urdf)) {
     boom_error = "no boom URDF in parameter " + nh_.resolveName(options_.robot_description);
   } else {
     try {

@@ -21,6 +21,9 @@ OcclusionNodeOptions LoadOcclusionNodeOptions(aar_ros_common::ParamReader& param
   if (!(step.parts.cull_margin >= 0.0) || !(step.parts.silhouette_margin >= 0.0))
     throw std::invalid_argument("~cull_margin and ~silhouette_margin must be >= 0");
   step.boom.cull_behind_boom = params.Get("cull_behind_boom", step.boom.cull_behind_boom);
+  step.boom.cull_depth_coefficient =
+      params.GetNonNegative("cull_depth_coefficient", step.boom.cull_depth_coefficient);
+  step.model_boom = params.Get("model_boom", step.model_boom);
   step.build_reference = params.Get("publish_reference", step.build_reference);
   o.robot_description = params.Get("robot_description", o.robot_description);
   o.receiver = aar_ros_common::LoadReceiverModel(params, step.sampling);

@@ -11,7 +11,24 @@ namespace aar_registration {
 
 // Point-to-point (thesis) and point-to-plane are implemented here; generalized ICP is PCL's
 // GeneralizedIterativeClosestPoint (plane-to-plane with covariances from 20 neighbours).
-enum class IcpMetric { kPointToPoint, kPointToPlane, kGeneralizedPcl };
+// kStereoRays (ours, issue 29; ray_icp.cpp): each sensed point pairs with the reference point
+// nearest to its camera ray, not to the point, and the pair's point-to-plane residual is weighted
+// by stereo's noise along that ray. Stereo scatters a point along its ray, so a nearest-point pair
+// moves with the noise and, on a curved surface, is biased outward (by about sigma_Z^2 / 2R at
+// grazing rays: centimetres near contact); a pair found along the ray does not move with it, and
+// its plane residual is zero-mean. Needs the sensor's position (Align's `source_eye`).
+enum class IcpMetric { kPointToPoint, kPointToPlane, kGeneralizedPcl, kStereoRays };
+
+// Stereo's noise as kStereoRays weighs it: along the ray sigma_Z = ray_sigma_coefficient * Z^2
+// (sigma_d / (f b): disparity noise over focal length times baseline, Z the point's range from
+// the eye), and plane_sigma for everything else (lateral noise, the reference's sampling).
+struct StereoNoise {
+  double ray_sigma_coefficient = 0.00045;  // [1/m] 0.25 px on the shipped rig (f b = 554 px m)
+  double plane_sigma = 0.02;               // [m]
+  // [m] A reference point farther than this from a sensed point's ray is no pair for it (about
+  // the reference's sample spacing, 9 cm, with room).
+  double ray_reach = 0.15;
+};
 
 struct IcpOptions {
   IcpMetric metric = IcpMetric::kPointToPoint;  // thesis
@@ -34,6 +51,7 @@ struct IcpOptions {
   // [m] The residual sigma in the covariance is at least this: noise-free clouds (synthetic ones)
   // would otherwise claim a perfect pose.
   double min_residual_sigma = 0.001;
+  StereoNoise stereo;  // kStereoRays only
 };
 
 // T_target_source maps source points onto the target.
@@ -70,13 +88,17 @@ class Icp {
 
   // Throws std::invalid_argument without a target; an empty source gives converged = false.
   // Not to be called concurrently on one object (the generalized metric keeps PCL state).
+  // `source_eye`: the camera the source points were measured from, in the source frame
+  // (kStereoRays needs it: std::invalid_argument without; the other metrics ignore it).
   RegistrationResult Align(const std::vector<Eigen::Vector3d>& source,
-                           const Eigen::Isometry3d& T_target_source_guess) const;
+                           const Eigen::Isometry3d& T_target_source_guess,
+                           const Eigen::Vector3d* source_eye = nullptr) const;
 
   const IcpOptions& options() const { return options_; }
 
+  struct Target;  // defined in src/icp_target.h
+
  private:
-  struct Target;
   IcpOptions options_;
   std::unique_ptr<Target> target_;
 };

@@ -178,10 +178,12 @@ class Registrar {
   bool has_outline_model() const { return aligner_ != nullptr; }
 
   // Sensed points in the tanker frame at `stamp_s` [s], and the frame's images for the outline
-  // (null: none this frame). Never throws: a frame without a pose comes back with valid = false
-  // and the reason.
+  // (null: none this frame). `left_eye_in_tanker`: the camera the points were measured from
+  // (IcpMetric::kStereoRays needs it; a frame without it has no pose). Never throws: a frame
+  // without a pose comes back with valid = false and the reason.
   RegistrarResult Register(const std::vector<Eigen::Vector3d>& sensed_in_tanker, double stamp_s,
-                           const OutlineFrame* outline = nullptr);
+                           const OutlineFrame* outline = nullptr,
+                           const Eigen::Vector3d* left_eye_in_tanker = nullptr);
 
   // The tracker's pose at `stamp_s` (invalid when not tracking or acquiring), for the stages
   // before registration (the occlusion stage's predicted pose, stereo's region of interest).
@@ -223,6 +225,7 @@ class Registrar {
   std::vector<Eigen::Vector3d> reference_points_;                 // receiver frame
   std::vector<Eigen::Vector3d> reference_normals_;                // SetReference's, if any
   std::optional<std::pair<double, Eigen::Isometry3d>> previous_;  // stamp [s], T_tanker_receiver
+  std::optional<Eigen::Vector3d> eye_;  // this frame's left camera, tanker frame (Register's)
   Tracker tracker_;
 };
 

@@ -23,7 +23,9 @@ OutlineInputs::OutlineInputs(ros::NodeHandle nh, const tf2_ros::Buffer& tf,
       tf_timeout_(tf_timeout),
       tf_fallback_age_(tf_fallback_age) {
   std::string urdf;
-  if (!nh.getParam(robot_description, urdf)) {
+  if (robot_description.empty()) {
+    ROS_INFO("registration: no boom modelled (model_boom: false): the outline masks none");
+  } else if (!nh.getParam(robot_description, urdf)) {
     boom_error_ = "no boom URDF in parameter " + nh.resolveName(robot_description);
   } else {
     try {

@@ -40,9 +40,10 @@ RegistrationNode::RegistrationNode(ros::NodeHandle nh, ros::NodeHandle private_n
     receiver_mesh_ = aar_description::LoadReceiverMesh(options_.receiver);
   if (options_.registrar.outline.enabled) {
     registrar_.SetOutlineModel(receiver_mesh_);
-    outline_ = std::make_unique<OutlineInputs>(nh_, tf_buffer_, options_.frames.tanker,
-                                               options_.robot_description, options_.tf_timeout,
-                                               options_.tf_fallback_age);
+    outline_ =
+        std::make_unique<OutlineInputs>(nh_, tf_buffer_, options_.frames.tanker,
+                                        options_.model_boom ? options_.robot_description : "",
+                                        options_.tf_timeout, options_.tf_fallback_age);
     outline_pub_ = nh_.advertise<geometry_msgs::PoseWithCovarianceStamped>("aar/outline_pose", 10);
   }
   PublishModels();
@@ -248,6 +249,14 @@ void RegistrationNode::Register(const sensor_msgs::PointCloud2::ConstPtr& msg) {
     if (!T_tanker_cloud) throw std::runtime_error(error);
     std::vector<Eigen::Vector3d> sensed = aar_ros_common::FromCloud(*msg).points;
     for (auto& p : sensed) p = *T_tanker_cloud * p;
+    std::optional<Eigen::Vector3d> eye;  // stereo-ray ICP pairs along the left camera's rays
+    if (options_.registrar.icp.metric == IcpMetric::kStereoRays) {
+      const auto T_tanker_left = aar_ros_common::LookupTransform(
+          tf_buffer_, options_.frames.tanker, options_.frames.left_camera, msg->header.stamp,
+          options_.tf_timeout, "the cloud's stamp", &error);
+      if (!T_tanker_left) throw std::runtime_error("stereo_rays ICP: " + error);
+      eye = T_tanker_left->translation();
+    }
     std::optional<OutlineFrame> outline;
     if (outline_) {
       std::string missing;
@@ -258,7 +267,8 @@ void RegistrationNode::Register(const sensor_msgs::PointCloud2::ConstPtr& msg) {
         last_outline_missing_ = missing;
       }
     }
-    result = registrar_.Register(sensed, msg->header.stamp.toSec(), outline ? &*outline : nullptr);
+    result = registrar_.Register(sensed, msg->header.stamp.toSec(), outline ? &*outline : nullptr,
+                                 eye ? &*eye : nullptr);
     if (result.outline_ran) PublishOutline(result, msg->header);
     if (result.cut_from_points > 0) {
       ROS_WARN_STREAM_THROTTLE(5.0, "registration: a cloud of "

@@ -41,7 +41,14 @@ RegistrationNodeOptions LoadRegistrationNodeOptions(aar_ros_common::ParamReader&
   r.icp.metric = params.GetChoice<IcpMetric>("icp_metric", "point_to_point",
                                              {{"point_to_point", IcpMetric::kPointToPoint},
                                               {"point_to_plane", IcpMetric::kPointToPlane},
-                                              {"generalized_pcl", IcpMetric::kGeneralizedPcl}});
+                                              {"generalized_pcl", IcpMetric::kGeneralizedPcl},
+                                              {"stereo_rays", IcpMetric::kStereoRays}});
+  r.icp.stereo.ray_sigma_coefficient =
+      params.GetNonNegative("icp_ray_sigma_coefficient", r.icp.stereo.ray_sigma_coefficient);
+  r.icp.stereo.plane_sigma = params.Get("icp_plane_sigma", r.icp.stereo.plane_sigma);
+  params.Check(r.icp.stereo.plane_sigma > 0.0, "icp_plane_sigma", "must be > 0");
+  r.icp.stereo.ray_reach = params.Get("icp_ray_reach", r.icp.stereo.ray_reach);
+  params.Check(r.icp.stereo.ray_reach > 0.0, "icp_ray_reach", "must be > 0");
   r.icp.max_iterations = params.Get("max_iterations", r.icp.max_iterations);
   r.icp.max_correspondence_distance =
       params.Get("max_correspondence_distance", r.icp.max_correspondence_distance);
@@ -128,6 +135,7 @@ RegistrationNodeOptions LoadRegistrationNodeOptions(aar_ros_common::ParamReader&
   params.Check(a.covariance_scale > 0.0, "outline_covariance_scale", "must be > 0");
   params.Check(!outline.enabled || r.track, "outline", "needs track: true");
   o.robot_description = params.Get("robot_description", o.robot_description);
+  o.model_boom = params.Get("model_boom", o.model_boom);
   o.frames = aar_ros_common::LoadStackFrames(params);
   o.truth_frame = params.Get("truth_frame", o.truth_frame);
   o.tf_timeout = params.GetNonNegative("tf_timeout", o.tf_timeout);

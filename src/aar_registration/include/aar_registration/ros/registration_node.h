@@ -53,6 +53,8 @@ struct RegistrationNodeOptions {
   // The boom's URDF for the outline's mask (registrar.outline): a parameter name, resolved in the
   // node's namespace.
   std::string robot_description = "robot_description";
+  // false: the tanker flies no boom (the boom hidden to measure its cost): the outline masks none.
+  bool model_boom = true;
 };
 
 // Reads ~parameters (one function, unknown keys rejected); throws std::invalid_argument.
