@@ -200,17 +200,17 @@ bool BoomOcclusion::Update(const std::map<std::string, Eigen::Isometry3d>& T_tan
   return true;
 }
 
-bool BoomOcclusion::CullVolume::Contains(const Eigen::Vector3d& p, const Eigen::Vector3d& eye,
-                                         double depth_margin) const {
+bool BoomOcclusion::CullVolume::Contains(const Eigen::Vector3d& p,
+                                         const Eigen::Vector3d& p_toward_eye) const {
   // The outline's cone lies inside the grown part's: outside that, outside both.
   if (!cone.Contains(p)) return false;
   if (far_side.planes.empty()) return true;  // the whole ray
-  const Eigen::Vector3d q = depth_margin > 0.0 ? p - depth_margin * (p - eye).normalized() : p;
-  return far_side.Contains(q) || outline.Contains(p);
+  return far_side.Contains(p_toward_eye) || outline.Contains(p);
 }
 
-double BoomOcclusion::DepthMargin(const Eigen::Vector3d& p) const {
-  return options_.cull_depth_coefficient * (p - eyes_[0]).squaredNorm();
+Eigen::Vector3d BoomOcclusion::TowardEye(const Eigen::Vector3d& p) const {
+  const double margin = options_.cull_depth_coefficient * (p - eyes_[0]).squaredNorm();
+  return margin > 0.0 ? Eigen::Vector3d(p - margin * (p - eyes_[0]).normalized()) : p;
 }
 
 void BoomOcclusion::BuildRayTargets() const {
@@ -270,7 +270,7 @@ std::vector<bool> BoomOcclusion::Cull(const std::vector<Eigen::Vector3d>& points
   if (!behind && (method == CullMethod::kRaysBrute || method == CullMethod::kRaysBvh)) {
     starts = points;
     for (size_t i = 0; i < points.size(); ++i) {
-      if (directions[i].allFinite()) starts[i] -= DepthMargin(points[i]) * directions[i];
+      if (directions[i].allFinite()) starts[i] = TowardEye(points[i]);
     }
   }
   switch (method) {
@@ -296,9 +296,9 @@ std::vector<bool> BoomOcclusion::Cull(const std::vector<Eigen::Vector3d>& points
     case CullMethod::kVolumes:
       for (size_t i = 0; i < points.size(); ++i) {
         if (!points[i].allFinite()) continue;  // as the rays: no direction, not boom
-        const double margin = DepthMargin(points[i]);
+        const Eigen::Vector3d toward_eye = TowardEye(points[i]);
         for (const auto& v : cull_) {
-          if (v.Contains(points[i], eyes_[0], margin)) {
+          if (v.Contains(points[i], toward_eye)) {
             boom[i] = true;
             break;
           }

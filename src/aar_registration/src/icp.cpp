@@ -159,7 +159,7 @@ RegistrationResult Icp::Align(const std::vector<Eigen::Vector3d>& source,
       }
     }
     const Eigen::SelfAdjointEigenSolver<Matrix6d> eigen(H);
-    result.degenerate = !(eigen.eigenvalues()(0) > 1e-9 * eigen.eigenvalues()(5));
+    result.degenerate = !WellConditioned(eigen.eigenvalues());
     if (result.degenerate) return;
     const double correlation =
         std::max(1.0, static_cast<double>(pairs.size()) / options_.independent_correspondences);
@@ -245,19 +245,13 @@ RegistrationResult Icp::Align(const std::vector<Eigen::Vector3d>& source,
         A += J * J.transpose();
         b -= J * n.dot(p - tp[i]);
       }
-      // A plane or a line leaves motions unconstrained (LDLT would quietly zero them): refuse.
-      const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> eigen(
-          A, Eigen::EigenvaluesOnly);
-      if (!(eigen.eigenvalues()(0) > 1e-9 * eigen.eigenvalues()(5))) {
+      // A plane or a line leaves motions unconstrained: refuse.
+      const std::optional<Eigen::Isometry3d> motion = SmallMotion(A, b);
+      if (!motion) {
         result.converged = false;
         return result;
       }
-      const Eigen::Matrix<double, 6, 1> x = A.ldlt().solve(b);
-      const Eigen::Vector3d w = x.head<3>();
-      step.linear() = (w.norm() > 0.0 ? Eigen::AngleAxisd(w.norm(), w.normalized())
-                                      : Eigen::AngleAxisd::Identity())
-                          .toRotationMatrix();
-      step.translation() = x.tail<3>();
+      step = *motion;
     }
     previous_rms = result.rms;
     previous_pose = result.T_target_source;

@@ -2,7 +2,10 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 #include <vector>
+
+#include <Eigen/Eigenvalues>
 
 #include <pcl/point_types.h>
 #include <pcl/registration/gicp.h>
@@ -36,6 +39,27 @@ struct Icp::Target {
   std::unique_ptr<KdTree> tree;
   std::unique_ptr<Gicp> gicp;  // kGeneralizedPcl: target covariances computed once, then reused
 };
+
+// Whether a 6x6 normal matrix with these eigenvalues (ascending) constrains every rigid motion: a
+// plane or a line leaves motions free (their eigenvalues near 0), which LDLT would quietly zero.
+inline bool WellConditioned(const Vector6d& eigenvalues) {
+  return eigenvalues(0) > 1e-9 * eigenvalues(5);
+}
+
+// The linearised step of the plane metrics: A x = b solved for a small motion x = (w, t), the
+// rotation vector w and the translation t, as a rigid transform; none when A leaves a motion free.
+inline std::optional<Eigen::Isometry3d> SmallMotion(const Matrix6d& A, const Vector6d& b) {
+  const Eigen::SelfAdjointEigenSolver<Matrix6d> eigen(A, Eigen::EigenvaluesOnly);
+  if (!WellConditioned(eigen.eigenvalues())) return std::nullopt;
+  const Vector6d x = A.ldlt().solve(b);
+  const Eigen::Vector3d w = x.head<3>();
+  Eigen::Isometry3d step = Eigen::Isometry3d::Identity();
+  step.linear() =
+      (w.norm() > 0.0 ? Eigen::AngleAxisd(w.norm(), w.normalized()) : Eigen::AngleAxisd::Identity())
+          .toRotationMatrix();
+  step.translation() = x.tail<3>();
+  return step;
+}
 
 // kStereoRays: Icp::Align for that metric (ray_icp.cpp).
 RegistrationResult AlignAlongRays(const Icp::Target& target, const IcpOptions& options,

@@ -179,7 +179,7 @@ void RayAlignment::EstimateCovariance(const Matrix6d& A, double chi2) {
   result_.covariance.setZero();
   const int dof = static_cast<int>(pairs_.size()) - 6;
   const Eigen::SelfAdjointEigenSolver<Matrix6d> eigen(A);
-  result_.degenerate = !(eigen.eigenvalues()(0) > 1e-9 * eigen.eigenvalues()(5));
+  result_.degenerate = !WellConditioned(eigen.eigenvalues());
   if (result_.degenerate || dof <= 0) return;
   const double correlation =
       std::max(1.0, static_cast<double>(pairs_.size()) / options_.independent_correspondences);
@@ -213,16 +213,11 @@ RegistrationResult RayAlignment::Run() {
       result_.converged = true;
       return result_;
     }
-    const Eigen::SelfAdjointEigenSolver<Matrix6d> eigen(A, Eigen::EigenvaluesOnly);
-    if (!(eigen.eigenvalues()(0) > 1e-9 * eigen.eigenvalues()(5))) return result_;  // unconstrained
-    const Vector6d x = A.ldlt().solve(b);
-    const Eigen::Vector3d w = x.head<3>();
-    Eigen::Isometry3d step = Eigen::Isometry3d::Identity();
-    if (w.norm() > 0.0) step.linear() = Eigen::AngleAxisd(w.norm(), w.normalized()).matrix();
-    step.translation() = x.tail<3>();
+    const std::optional<Eigen::Isometry3d> step = SmallMotion(A, b);
+    if (!step) return result_;  // a motion left unconstrained
     previous_rms = result_.rms;
     previous_pose = result_.T_target_source;
-    result_.T_target_source = step * result_.T_target_source;
+    result_.T_target_source = *step * result_.T_target_source;
   }
   Match();  // statistics of the transform returned
   NormalEquations(&A, &b, &chi2);

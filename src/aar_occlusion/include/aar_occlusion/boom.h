@@ -115,9 +115,9 @@ class BoomOcclusion {
   // that cut it at the far side (empty with cull_behind_boom), and the outline's cone.
   struct CullVolume {
     ConvexVolume cone, far_side, outline;
-    // `p` moved `depth_margin` [m] toward `eye` along its ray for the far side.
-    bool Contains(const Eigen::Vector3d& p, const Eigen::Vector3d& eye,
-                  double depth_margin = 0.0) const;
+    // `p_toward_eye`: p moved toward the left eye by its depth margin (TowardEye), for the far
+    // side.
+    bool Contains(const Eigen::Vector3d& p, const Eigen::Vector3d& p_toward_eye) const;
   };
   const std::vector<CullVolume>& cull_volumes() const { return cull_; }
 
@@ -132,7 +132,8 @@ class BoomOcclusion {
     void Build(const aar_geometry::TriangleMesh& mesh);
   };
   void BuildRayTargets() const;  // on first use: only the ray methods need them
-  double DepthMargin(const Eigen::Vector3d& p) const;  // [m] cull_depth_coefficient's, at p
+  // p moved toward the left eye along its ray by cull_depth_coefficient * range^2 (p when 0).
+  Eigen::Vector3d TowardEye(const Eigen::Vector3d& p) const;
 
   std::vector<BoomPart> parts_;
   BoomOcclusionOptions options_;
