@@ -1,5 +1,5 @@
 // scripts/run --suite refuses bad arguments with a message naming them and a non-zero exit,
-// before any run starts (scripts/suite parses them after setup and build).
+// before anything is set up, built or flown (the campaign driver, scripts/campaign/, checks them).
 #include <gtest/gtest.h>
 
 #include <string>
@@ -37,7 +37,8 @@ TEST(SuiteScript, BadArgumentsAreNamedAndRefused) {
 }
 
 // scripts/run --receiver: an unknown receiver, or one without an approach of its own and no
-// --flight-path, is named and refused before setup and build.
+// --flight-path, is named and refused before setup and build; so are bad --frames and
+// --start-time.
 TEST(RunScript, BadReceiverIsNamedAndRefused) {
   const std::string run = aar_testing::WorkspaceRoot() + "/scripts/run";
   auto r = aar_testing::RunCommand(run + " --receiver nonesuch --out /tmp/aar_run_script_test");
@@ -52,6 +53,16 @@ TEST(RunScript, BadReceiverIsNamedAndRefused) {
   EXPECT_NE(r.output.find("has no approach"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("give --flight-path"), std::string::npos) << r.output;
   aar_testing::RunCommand("rm -f " + copy);
+  r = aar_testing::RunCommand(run + " --frames x --out /tmp/aar_run_script_test");
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_NE(r.output.find("run: --frames takes a whole number (0: all), not 'x'"),
+            std::string::npos)
+      << r.output;
+  r = aar_testing::RunCommand(run + " --start-time 9999 --out /tmp/aar_run_script_test");
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_NE(r.output.find("--start-time 9999 is outside the flight path's [0, 50.8] s"),
+            std::string::npos)
+      << r.output;
 }
 
 // scripts/realism: worlds that are not presets, a first world other than ideal, and the suite's
@@ -67,8 +78,8 @@ TEST(RealismScript, BadArgumentsAreNamedAndRefused) {
        "--suite takes a number of approaches of at least 1, not '0'"},
       {"--experiments naive,nonsense --worlds ideal,turbulence",
        "no experiment 'nonsense' in config/experiments/"},
-      {"--bogus", "unknown argument '--bogus'"},
-      {"--out", "--out needs a value"},
+      {"--bogus", "unrecognized arguments: --bogus"},
+      {"--out", "argument --out: expected one argument"},
   };
   for (const auto& c : cases) {
     const auto r =

@@ -1,0 +1,100 @@
+"""A campaign: its runs, its folder, what it records about itself (campaign.json, run.txt), and
+the lock that keeps two drivers out of one folder."""
+import dataclasses
+import fcntl
+import json
+import os
+import shutil
+
+from campaign.plan import Run
+from campaign.workspace import ROOT, Refused, commit, machine, utc_now
+
+RECORD = "campaign.json"
+
+
+@dataclasses.dataclass
+class Campaign:
+    kind: str          # run (one path, the main job), suite (seeded approaches) or realism
+    out: str           # its folder
+    command: str       # the command line that made it
+    experiments: list
+    runs: list         # of Run, in the order they are flown; a Slurm task's index is its place
+    units: list        # folders (relative to out) with a report each: "." or one per world
+    notes: dict        # kind-specific settings the reports and run.txt need
+
+    def save(self):
+        record = dataclasses.asdict(self)
+        tmp = os.path.join(self.out, RECORD + ".tmp")
+        with open(tmp, "w") as f:
+            json.dump(record, f, indent=1)
+        os.replace(tmp, os.path.join(self.out, RECORD))
+
+    @staticmethod
+    def load(out):
+        path = os.path.join(out, RECORD)
+        try:
+            with open(path) as f:
+                record = json.load(f)
+        except OSError:
+            raise Refused(f"'{out}' holds no campaign ({RECORD} missing): nothing to resume")
+        except ValueError as e:
+            raise Refused(f"{path} is not readable ({e})")
+        record["runs"] = [Run(**r) for r in record["runs"]]
+        return Campaign(**record)
+
+
+def refuse_existing(out):
+    """A new campaign may not reuse a campaign's folder: its results would mix."""
+    if os.path.exists(os.path.join(out, RECORD)):
+        raise Refused(f"'{out}' holds a campaign already: resume it with scripts/run --resume "
+                      f"{out}, or choose another --out")
+
+
+class Lock:
+    """An exclusive lock on the campaign folder for as long as one driver works in it."""
+
+    def __init__(self, out):
+        os.makedirs(out, exist_ok=True)
+        self.file = open(os.path.join(out, ".lock"), "a+")
+        try:
+            fcntl.flock(self.file, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except OSError:
+            self.file.seek(0)
+            holder = self.file.read().strip() or "another process"
+            raise Refused(f"'{out}' is in use by another campaign driver ({holder}); wait for "
+                          f"it or choose another --out")
+        self.file.truncate(0)
+        self.file.write(f"pid {os.getpid()}\n")
+        self.file.flush()
+
+
+def copy_configuration(unit_dir, experiments, extra):
+    """config/*.yaml, the experiments' files and the extra files (name -> path) into the unit's
+    config/ folder: every result records the configuration it was made with."""
+    config = os.path.join(unit_dir, "config")
+    os.makedirs(config, exist_ok=True)
+    for name in sorted(os.listdir(os.path.join(ROOT, "config"))):
+        if name.endswith(".yaml"):
+            shutil.copy(os.path.join(ROOT, "config", name), config)
+    for e in experiments:
+        shutil.copy(os.path.join(ROOT, "config/experiments", e + ".yaml"),
+                    os.path.join(config, f"experiment_{e}.yaml"))
+    for name, path in extra.items():
+        if path:
+            shutil.copy(path, os.path.join(config, name))
+
+
+def write_provenance(unit_dir, command, lines):
+    with open(os.path.join(unit_dir, "run.txt"), "w") as f:
+        f.write(f"date (UTC): {utc_now()}\ncommit: {commit()}\ncommand: {command}\n"
+                f"machine: {machine()}\n")
+        for line in lines:
+            f.write(line + "\n")
+        f.write("configuration: config/ as copied into this folder\n")
+
+
+def append_provenance(campaign, lines):
+    for unit in campaign.units:
+        with open(os.path.join(campaign.out, unit, "run.txt"), "a") as f:
+            for line in lines:
+                f.write(line + "\n")

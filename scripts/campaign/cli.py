@@ -1,0 +1,138 @@
+"""Command lines of scripts/run (one path: the main job), scripts/run --suite (seeded
+approaches) and scripts/realism (a suite per world), and the Slurm jobs' own (task, merge).
+Arguments are checked before anything is set up, built or flown."""
+import argparse
+import os
+import re
+import sys
+
+from campaign import cluster, drive, plans, slurm, workspace
+from campaign.campaign import Campaign, Lock, refuse_existing
+from campaign.workspace import ROOT, Refused, fail, say
+
+DEFAULTS = {
+    "run": "no_boom,naive,static_wings_nose,dynamic,flight",
+    "suite": "naive,no_boom,culling_only,dynamic_reference_only,dynamic,flight",
+    "realism": "naive,no_boom,static_wings_nose,dynamic,tracking",
+}
+PLAN_KEYS = ("receiver", "flight_path", "experiments", "frames", "start_time", "sim_config",
+             "out", "suite", "seed", "rate", "noise", "worlds")
+
+
+class Parser(argparse.ArgumentParser):
+    def error(self, message):
+        fail(message)
+
+
+def engine_arguments(p):
+    g = p.add_argument_group("where the runs go")
+    g.add_argument("--jobs", default=None, help="local engine: runs at a time, at most the "
+                   "number of cores (default: 1 for one path, 2 capped at the cores otherwise)")
+    g.add_argument("--engine", choices=("local", "slurm"), default="local",
+                   help="local: processes here; slurm: a job array on a Slurm cluster "
+                   "(docs/CLUSTER.md; with no cluster configured, a single-node one here)")
+    g.add_argument("--partition", default="", help="slurm: the partition to submit to")
+    g.add_argument("--cpus-per-task", default="1", help="slurm: CPUs per run")
+    g.add_argument("--max-parallel", default="0", help="slurm: runs at a time (0: no limit)")
+    g.add_argument("--no-wait", action="store_true", help="slurm: submit and return; the merge "
+                   "job writes the report")
+    g.add_argument("--resume", default=None, metavar="DIR", help="fly the runs of campaign DIR "
+                   "that are not done, then write its reports")
+    g.add_argument("--no-build", action="store_true", help="skip scripts/setup and build")
+    g.add_argument("--caller", default=os.getcwd(), help=argparse.SUPPRESS)
+
+
+def parser(kind):
+    doc = plans.USAGE[kind]
+    p = Parser(prog={"run": "scripts/run", "suite": "scripts/run --suite",
+                     "realism": "scripts/realism"}[kind], description=doc,
+               formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("--experiments", default=None, help=f"default {DEFAULTS[kind]}")
+    p.add_argument("--sim-config", default=None, help="YAML loaded over config/sim.yaml "
+                   "(a camera mount, config/mounts/NAME.yaml, or a world, config/realism/)")
+    p.add_argument("--out", default=None, help="the campaign's folder (default: results/...)")
+    if kind == "run":
+        p.add_argument("--receiver", default=None, help="c12 (default) or rq4, or a "
+                       "description's path")
+        p.add_argument("--flight-path", default=None, help="default: the receiver's approach")
+        p.add_argument("--frames", default=None, help="at most N frames (0: all)")
+        p.add_argument("--start-time", default=None, help="[s] path time of the first frame")
+    else:
+        p.add_argument("--suite", default=None, help="number of approaches N" +
+                       (" (default 4)" if kind == "realism" else ""))
+        p.add_argument("--seed", default=None, help="suite seed S: approach i uses S*1000+i "
+                       "(default 1)")
+        p.add_argument("--rate", default=None, help="[Hz] frames per second of path time "
+                       "(default: config/sim.yaml's)")
+        p.add_argument("--noise", default=None, help="[grey levels] sensor noise sigma "
+                       "(default 2.0)")
+    if kind == "realism":
+        p.add_argument("--worlds", default=None, help="ideal,NAME,... (default: ideal, every "
+                       "preset in config/realism/, realistic last)")
+    engine_arguments(p)
+    return p
+
+
+def number(value, name, pattern, low, high, what):
+    if not re.fullmatch(pattern, value) or not low <= float(value) <= high:
+        raise Refused(f"{name} takes {what}, not '{value}'")
+    return value
+
+
+def check_engine(a):
+    cores = os.cpu_count() or 1
+    if a.jobs is not None:
+        number(a.jobs, "--jobs", r"[0-9]+", 1, cores, f"1 to {cores} (this machine's cores)")
+    number(a.cpus_per_task, "--cpus-per-task", r"[0-9]+", 1, 4096, "a whole number of CPUs")
+    number(a.max_parallel, "--max-parallel", r"[0-9]+", 0, 1e6, "a whole number (0: no limit)")
+    if a.engine == "local" and (a.partition or a.no_wait):
+        raise Refused("--partition and --no-wait are for --engine slurm")
+
+
+def main(argv):
+    if argv and argv[0] in ("task", "merge"):
+        from campaign import jobs
+        return jobs.main(argv)
+    if argv and argv[0] == "fly":
+        from campaign import fly
+        return fly.main(argv[1:])
+    kind, argv = argv[0], argv[1:]
+    if kind == "run" and "--suite" in argv:
+        kind = "suite"
+    workspace.PROG = kind
+    a = parser(kind).parse_args(argv)
+    started = None
+    try:
+        check_engine(a)
+        if a.resume is not None:
+            given = [k for k in PLAN_KEYS if getattr(a, k, None) is not None]
+            if given:
+                raise Refused("--resume flies the campaign's own plan: give only --jobs, "
+                              f"--engine and the Slurm options with it (got --{given[0].replace('_', '-')})")
+            out = workspace.absolute(a.resume, a.caller)
+            campaign, fresh = Campaign.load(out), None
+            workspace.PROG = campaign.kind
+        else:
+            fresh = plans.check(kind, a)
+            refuse_existing(fresh.out)
+            out = fresh.out
+        if a.engine == "slurm":
+            if a.no_wait and not cluster.configured():
+                raise Refused("--no-wait needs a cluster that outlives the driver (SLURM_CONF or "
+                              "/etc/slurm/slurm.conf); the single-node one it would bring up "
+                              "here stops when it returns")
+            started = cluster.ensure()  # stopped by drive(), or below when refused
+            slurm.check(a.partition)
+        lock = Lock(out)  # noqa: F841 (held until the driver exits)
+        if not a.no_build:
+            workspace.setup_and_build()
+        if fresh is not None:
+            campaign = plans.create(fresh)
+    except Refused as e:
+        cluster.stop(started)
+        fail(str(e))
+    return drive.drive(campaign, a, started)
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))

@@ -1,0 +1,96 @@
+"""Driving a campaign to its end: the runs not yet done through the chosen engine, then the
+reports, and a last word on what is missing and how to resume."""
+import json
+import os
+import time
+
+from campaign import local, slurm, cluster
+from campaign.campaign import append_provenance
+from campaign.execute import is_done
+from campaign.reports import write_reports
+from campaign.workspace import Refused, commit, fail, say, utc_now
+
+
+def finish(campaign, engine, seconds, flown, interrupted=False):
+    """Records the outcome in run.txt, writes the reports; returns 0 when complete."""
+    missing = [r.key for r in campaign.runs if not is_done(r, campaign.out)]
+    lines = [f"wall time: {seconds / 60:.1f} min for {flown} runs ({engine})"]
+    if interrupted:
+        lines.append("interrupted: the runs not finished are missing")
+    if missing:
+        lines.append(f"failed or missing runs ({len(missing)}): {', '.join(missing)}")
+    append_provenance(campaign, lines)
+    path, ok = write_reports(campaign)
+    say(f"wrote {path}")
+    if missing or not ok:
+        say(f"incomplete: {len(missing)} of {len(campaign.runs)} runs failed or missing"
+            f"{': ' + ', '.join(missing[:12]) if missing else ''}"
+            f"{' ...' if len(missing) > 12 else ''}{'' if ok else '; a report failed'}; "
+            f"fly what is missing with: scripts/run --resume {campaign.out}", error=True)
+        return 1
+    return 0
+
+
+def _jobs(a, runs):
+    cores = os.cpu_count() or 1
+    if a.jobs is not None:
+        return int(a.jobs)
+    return min(cores, 2, max(1, len(runs))) if len(runs) > 1 and cores > 1 else 1
+
+
+def drive(campaign, a, started=None):
+    """Flies what is not done and writes the reports; `started`: the state folder of a
+    single-node cluster the driver brought up (stopped here)."""
+    todo = [r for r in campaign.runs if not is_done(r, campaign.out)]
+    if len(todo) < len(campaign.runs):
+        say(f"{len(campaign.runs) - len(todo)} of {len(campaign.runs)} runs done already; "
+            f"flying the other {len(todo)}")
+        append_provenance(campaign, [f"resumed {utc_now()} UTC at commit {commit()}: "
+                                     f"{len(todo)} runs to fly"])
+    start = time.monotonic()
+    if a.engine == "local":
+        jobs = _jobs(a, todo) if campaign.kind != "run" or a.jobs else 1
+        say(f"{len(todo)} runs, {jobs} at a time; out {campaign.out}")
+        _, interrupted = local.run_local(campaign, todo, jobs) if todo else ([], False)
+        return finish(campaign, f"local, {jobs} at a time", time.monotonic() - start,
+                      len(todo), interrupted)
+    return _drive_slurm(campaign, a, todo, start, started)
+
+
+def _drive_slurm(campaign, a, todo, start, started):
+    if not todo:
+        cluster.stop(started)
+        return finish(campaign, "slurm", 0.0, 0)
+    try:
+        indices = [campaign.runs.index(r) for r in todo]
+        array, merge = slurm.submit(campaign, indices, a.partition, int(a.cpus_per_task),
+                                    int(a.max_parallel))
+        say(f"{len(todo)} runs submitted to Slurm as job array {array} "
+            f"(logs: {campaign.out}/slurm/{array}-task-N.log), merge job {merge} after it")
+        if a.no_wait:
+            say(f"not waiting: the merge job writes the reports; squeue -j {array},{merge} "
+                f"to watch, scripts/run --resume {campaign.out} for what fails")
+            return 0
+        bound = sum(campaign.runs[i].timeout() for i in indices) + 600
+        record = slurm.wait(campaign, array, merge, bound)
+    except Refused as e:
+        fail(str(e))
+    finally:
+        if not a.no_wait:
+            cluster.stop(started)
+    if record is None:
+        say(f"the merge job left no record ({campaign.out}/slurm/{merge}-merge.log says why); "
+            f"scripts/run --resume {campaign.out} writes the reports", error=True)
+        return 1
+    say(f"{len(todo)} runs through Slurm in {(time.monotonic() - start) / 60:.1f} min; "
+        f"wrote {record['report']}")
+    if record["status"] != 0:
+        say(f"incomplete: {', '.join(record['missing']) or 'a report failed'}; fly what is "
+            f"missing with: scripts/run --resume {campaign.out}", error=True)
+    return record["status"]
+
+
+def record_merge(campaign, status, report):
+    missing = [r.key for r in campaign.runs if not is_done(r, campaign.out)]
+    with open(os.path.join(campaign.out, "slurm", "merge.json"), "w") as f:
+        json.dump({"status": status, "report": report, "missing": missing}, f)

@@ -1,0 +1,112 @@
+"""Flying one run: a private ROS master, the bounded roslaunch, its outcome recorded in the run's
+folder (run.json), and one retry. A run whose run.json says ok with all its frames is done and
+is not flown again (resuming)."""
+import json
+import os
+import re
+import shutil
+import signal
+import subprocess
+import time
+
+from campaign.workspace import ros_env
+
+ATTEMPTS = 2  # a failed run is retried once, then named in the report
+
+
+def frames_recorded(out_dir):
+    try:
+        with open(os.path.join(out_dir, "frames.csv")) as f:
+            return sum(1 for _ in f) - 1
+    except OSError:
+        return 0
+
+
+def is_done(run, campaign_dir):
+    out = os.path.join(campaign_dir, run.key)
+    try:
+        with open(os.path.join(out, "run.json")) as f:
+            status = json.load(f)
+    except (OSError, ValueError):
+        return False
+    return status.get("status") == "ok" and frames_recorded(out) == run.frames
+
+
+class Flight:
+    """One attempt of one run; stop() ends it from another thread or a signal handler."""
+
+    def __init__(self, run, out_dir, port):
+        self.run, self.out_dir, self.port = run, out_dir, port
+        self.proc = None
+
+    def fly(self):
+        env = dict(ros_env(), ROS_MASTER_URI=f"http://localhost:{self.port}")
+        with open(os.path.join(self.out_dir, "launch.log"), "w") as log:
+            # Lockstep: each frame waits for its estimate, so results do not depend on speed.
+            self.proc = subprocess.Popen(self.run.command(self.out_dir, self.port), stdout=log,
+                                         stderr=subprocess.STDOUT, stdin=subprocess.DEVNULL,
+                                         env=env, start_new_session=True)
+            return self.proc.wait()
+
+    def stop(self):
+        if self.proc is not None and self.proc.poll() is None:
+            try:
+                os.killpg(self.proc.pid, signal.SIGINT)
+            except ProcessLookupError:
+                pass
+
+
+def execute(run, campaign_dir, port, stopping=lambda: False, on_flight=lambda f: None):
+    """Flies `run` (retried once on failure) into campaign_dir/run.key; returns its status dict,
+    also written to run.json there. roslaunch exits 0 even when a required node dies: the frame
+    count decides."""
+    out = os.path.join(campaign_dir, run.key)
+    status = {"status": "failed", "frames": run.frames, "attempts": 0}
+    for attempt in range(1, ATTEMPTS + 1):
+        if stopping():
+            status["status"] = "interrupted"
+            break
+        shutil.rmtree(out, ignore_errors=True)
+        os.makedirs(out)
+        flight = Flight(run, out, port)
+        on_flight(flight)
+        t0 = time.monotonic()
+        code = flight.fly()
+        rows = frames_recorded(out)
+        status.update(attempts=attempt, recorded=rows, exit=code,
+                      seconds=round(time.monotonic() - t0, 1))
+        if rows == run.frames:
+            status["status"] = "ok"
+            break
+        status["status"] = "interrupted" if stopping() else "failed"
+    with open(os.path.join(out, "run.json"), "w") as f:
+        json.dump(status, f, indent=1)
+    return status
+
+
+def describe(status):
+    if status["status"] == "ok":
+        retried = " (on its retry)" if status["attempts"] > 1 else ""
+        return f"ok{retried}, {status['seconds']:.0f} s"
+    return (f"{status['status'].upper()} ({status.get('recorded', 0)} of {status['frames']} "
+            f"frames, {status['attempts']} attempt(s))")
+
+
+def eval_lines(run, campaign_dir, lines=12):
+    """eval's closing lines of a run (its frame count and region errors), for the console."""
+    try:
+        with open(os.path.join(campaign_dir, run.key, "launch.log"), errors="replace") as f:
+            found = [re.sub(r"\x1b\[[0-9;]*m", "", line) for line in f
+                     if re.search(r"eval: (frame|region|wrote)", line)]
+    except OSError:
+        return ""
+    return "\n".join("  " + line[line.find("eval: "):].rstrip() for line in found[-lines:])
+
+
+def log_tail(run, campaign_dir, lines=15):
+    try:
+        with open(os.path.join(campaign_dir, run.key, "launch.log"), errors="replace") as f:
+            text = f.read().splitlines()[-lines:]
+    except OSError:
+        return ""
+    return "\n".join(re.sub(r"\x1b\[[0-9;]*m", "", line) for line in text)

@@ -1,0 +1,48 @@
+"""The reports a campaign ends with, by kind: report.md (one path), suite.md (approaches), and
+worlds.md (realism). The same code runs after local runs, in Slurm's merge job and on resume."""
+import os
+import subprocess
+import sys
+
+from campaign.workspace import ROOT, ros_env, say, tool
+
+# The suite's paired comparisons: against naive and no_boom, and each part's own gain.
+SUITE_BASELINES = "naive,no_boom,culling_only,dynamic_reference_only"
+
+
+def _call(cmd, log=None):
+    out = open(log, "w") if log else None
+    try:
+        return subprocess.run(cmd, env=ros_env(), stdout=out, stderr=subprocess.STDOUT if log
+                              else None, stdin=subprocess.DEVNULL).returncode
+    finally:
+        if out:
+            out.close()
+
+
+def write_reports(campaign):
+    """Writes the kind's reports; returns the main one's path and whether all were written."""
+    experiments = ",".join(campaign.experiments)
+    out = campaign.out
+    if campaign.kind == "run":
+        if _call([sys.executable, os.path.join(ROOT, "src/aar_eval/scripts/plot_errors.py"),
+                  out, experiments]):
+            say("plots failed", error=True)
+        # Headless rviz captures of the sample bag (a C-12 flight; other receivers go without).
+        if campaign.notes.get("captures"):
+            if _call([os.path.join(ROOT, "scripts/capture"), os.path.join(
+                    ROOT, "rosbags/sample_contact.bag"), "--frames", "6,15", "--out",
+                    os.path.join(out, "captures"), "--no-build"], os.path.join(out, "capture.log")):
+                say(f"rviz captures failed (log: {out}/capture.log)", error=True)
+        ok = _call([tool("aar_eval", "make_report"), out, experiments, "naive"]) == 0
+        return os.path.join(out, "report.md"), ok
+    ok = True
+    for unit in campaign.units:
+        ok &= _call([tool("aar_eval", "make_report"), "--suite", os.path.normpath(os.path.join(out, unit)),
+                     experiments, SUITE_BASELINES]) == 0
+    if campaign.kind == "suite":
+        return os.path.join(out, "suite.md"), ok
+    pairs = ",".join(f"{w}={os.path.join(out, w)}" for w in campaign.units)
+    ok &= _call([tool("aar_eval", "make_report"), "--worlds", os.path.join(out, "worlds.md"),
+                 experiments, pairs]) == 0
+    return os.path.join(out, "worlds.md"), ok

@@ -1,0 +1,109 @@
+"""The Slurm engine: one job-array task per run (each flies its run on a ROS master of its own
+on whichever node Slurm gives it), and a merge job, dependent on the whole array, that writes
+the same reports as the local engine. Jobs reach the workspace and the campaign folder on a path
+every node shares; nothing else is assumed of the cluster (docs/CLUSTER.md)."""
+import json
+import os
+import shutil
+import subprocess
+import sys
+import time
+
+from campaign.workspace import ROOT, Refused, say
+
+DRIVER = os.path.join(ROOT, "scripts/campaign")
+POLL_SECONDS = 5
+
+
+def command(name):
+    """A Slurm client command: from AAR_SLURM_BIN when set (a cluster's own install, e.g.
+    /opt/slurm/bin), else from PATH; None when missing."""
+    return shutil.which(name, path=os.environ.get("AAR_SLURM_BIN") or None)
+
+
+def _slurm(args, what):
+    args = [command(args[0]) or args[0]] + args[1:]
+    p = subprocess.run(args, capture_output=True, text=True)
+    if p.returncode != 0:
+        raise Refused(f"{what} failed: {(p.stderr or p.stdout).strip()}")
+    return p.stdout.strip()
+
+
+def check(partition):
+    """Slurm's client is installed, a controller answers, and the partition exists."""
+    for name in ("sbatch", "squeue", "sinfo"):
+        if command(name) is None:
+            where = os.environ.get("AAR_SLURM_BIN") or "PATH"
+            raise Refused(f"--engine slurm needs Slurm's {name}, which is not on {where} (Debian "
+                          f"package slurm-client: apt-get install slurm-client; with no cluster "
+                          f"configured, the driver installs and starts a single-node one here)")
+    listed = _slurm(["sinfo", "-h", "-o", "%R"], "sinfo (is a Slurm controller reachable? "
+                    "SLURM_CONF=" + os.environ.get("SLURM_CONF", "/etc/slurm/slurm.conf") + ")")
+    partitions = sorted(set(listed.split()))
+    if partition and partition not in partitions:
+        raise Refused(f"--partition: no partition '{partition}' on this cluster (partitions: "
+                      f"{', '.join(partitions) or 'none'})")
+
+
+def array_spec(indices):
+    """Slurm's --array list: runs of consecutive indices as ranges (0-3,7,9-10)."""
+    parts, start = [], None
+    for i, k in enumerate(indices):
+        if start is None:
+            start = k
+        if i + 1 == len(indices) or indices[i + 1] != k + 1:
+            parts.append(str(start) if start == k else f"{start}-{k}")
+            start = None
+    return ",".join(parts)
+
+
+def submit(campaign, indices, partition, cpus_per_task, max_parallel):
+    """Submits the array of `indices` (places in campaign.runs) and the merge job after it;
+    returns their job ids (also written to DIR/slurm/jobs.json)."""
+    folder = os.path.join(campaign.out, "slurm")
+    os.makedirs(folder, exist_ok=True)
+    common = ["sbatch", "--parsable", "--chdir", ROOT] + (["--partition", partition]
+                                                          if partition else [])
+    limit = max(campaign.runs[i].timeout() for i in indices)
+    spec = array_spec(indices) + (f"%{max_parallel}" if max_parallel else "")
+    array = _slurm(common + [
+        f"--array={spec}", f"--cpus-per-task={cpus_per_task}", f"--time={limit // 60 + 2}",
+        "--job-name=aar-run", f"--output={folder}/%A-task-%a.log",
+        f"--wrap=exec {sys.executable} {DRIVER} task {campaign.out} $SLURM_ARRAY_TASK_ID"],
+        "sbatch (the array)").split(";")[0]
+    merge = _slurm(common + [
+        f"--dependency=afterany:{array}", "--kill-on-invalid-dep=yes", "--cpus-per-task=1",
+        "--time=30", "--job-name=aar-merge", f"--output={folder}/%j-merge.log",
+        f"--wrap=exec {sys.executable} {DRIVER} merge {campaign.out}"],
+        "sbatch (the merge job)").split(";")[0]
+    with open(os.path.join(folder, "jobs.json"), "w") as f:
+        json.dump({"array": array, "merge": merge, "indices": indices,
+                   "submitted": time.time()}, f)
+    return array, merge
+
+
+def queued(job):
+    p = subprocess.run([command("squeue"), "-h", "-j", job, "-o", "%T"], capture_output=True, text=True)
+    return p.returncode == 0 and p.stdout.strip() != ""
+
+
+def wait(campaign, array, merge, bound_seconds):
+    """Waits until the merge job has left the queue (bounded); returns the merge's record."""
+    deadline = time.monotonic() + bound_seconds
+    try:
+        while queued(merge) or queued(array):
+            if time.monotonic() > deadline:
+                raise Refused(f"Slurm jobs {array} and {merge} still queued after "
+                              f"{bound_seconds / 60:.0f} min; they go on: scancel {array} {merge} "
+                              f"to stop them, scripts/run --resume {campaign.out} afterwards")
+            time.sleep(POLL_SECONDS)
+    except KeyboardInterrupt:
+        say(f"stopped waiting; Slurm jobs {array} (runs) and {merge} (merge) go on: squeue -j "
+            f"{array},{merge} to watch them, scancel {array} {merge} to stop them; when they "
+            f"end, scripts/run --resume {campaign.out} flies what is missing", error=True)
+        raise
+    try:
+        with open(os.path.join(campaign.out, "slurm", "merge.json")) as f:
+            return json.load(f)
+    except (OSError, ValueError):
+        return None

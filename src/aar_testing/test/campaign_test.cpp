@@ -1,0 +1,210 @@
+// The campaign driver (scripts/campaign/, behind scripts/run, scripts/suite and scripts/realism):
+// a suite through a real Slurm (munged, slurmctld and slurmd started on this machine) gives the
+// local engine's suite.md to the last digit; a Slurm task cancelled mid-run is named and then
+// resumed; an interrupted local campaign says how to resume and resumes without flying again
+// what it finished; bad engine input is named before anything starts. Needs root (Slurm's
+// daemons); every command is bounded by `timeout`.
+#include <gtest/gtest.h>
+#include <sys/stat.h>
+
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include "aar_testing/command.h"
+#include "aar_testing/paths.h"
+
+namespace {
+
+// scripts/run with the workspace as built (no setup or build), bounded in time.
+std::string ScriptsRun(const std::string& args, int seconds = 900) {
+  return "timeout -s INT --preserve-status " + std::to_string(seconds) + " " +
+         aar_testing::WorkspaceRoot() + "/scripts/run " + args + " --no-build";
+}
+
+std::string Read(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+bool Exists(const std::string& path) {
+  struct stat st;
+  return stat(path.c_str(), &st) == 0;
+}
+
+long ModifiedNs(const std::string& path) {
+  struct stat st;
+  if (stat(path.c_str(), &st) != 0) return -1;
+  return st.st_mtim.tv_sec * 1000000000L + st.st_mtim.tv_nsec;
+}
+
+// suite.md without its Run section (date, wall time, folder and engine differ by design).
+std::string Results(const std::string& dir) {
+  const std::string md = Read(dir + "/suite.md");
+  const size_t at = md.find("## Approaches");
+  return at == std::string::npos ? "" : md.substr(at);
+}
+
+// Waits (polling each second, at most `seconds`) until `path` exists.
+bool WaitFor(const std::string& path, int seconds) {
+  return aar_testing::RunCommand("for i in $(seq 1 " + std::to_string(seconds) + "); do [ -e '" +
+                                 path + "' ] && exit 0; sleep 1; done; exit 1")
+             .status == 0;
+}
+
+// The 2 x 2 suite both engines fly: 2 Hz keeps it about 20 s a run.
+const char* kSuite = "--suite 2 --experiments naive,dynamic --rate 2";
+
+TEST(Campaign, BadEngineInputIsNamedBeforeAnythingStarts) {
+  const std::string out = "/tmp/aar_campaign_bad";
+  aar_testing::RunCommand("rm -rf " + out);
+  const struct {
+    std::string env, args, needle;
+  } cases[] = {
+      {"", "--suite 1 --partition x", "--partition and --no-wait are for --engine slurm"},
+      {"", "--suite 1 --engine slurm --cpus-per-task 0",
+       "--cpus-per-task takes a whole number of CPUs, not '0'"},
+      {"", "--resume /nonexistent_campaign", "'/nonexistent_campaign' holds no campaign"},
+      {"", "--resume /tmp --experiments naive", "--resume flies the campaign's own plan"},
+      {"env -u SLURM_CONF", "--suite 1 --engine slurm --no-wait",
+       "--no-wait needs a cluster that outlives the driver"},
+      // A cluster configured but its client missing: the package is named.
+      {"env SLURM_CONF=/nonexistent.conf AAR_SLURM_BIN=/nonexistent", "--suite 1 --engine slurm",
+       "needs Slurm's sbatch, which is not on /nonexistent (Debian package slurm-client"},
+  };
+  for (const auto& c : cases) {
+    if (c.env == "env -u SLURM_CONF" && Exists("/etc/slurm/slurm.conf")) continue;
+    const bool resume = c.args.rfind("--resume", 0) == 0;  // its folder is the campaign's
+    const auto r = aar_testing::RunCommand(
+        c.env + " " + ScriptsRun(c.args + (resume ? "" : " --out " + out), 60));
+    EXPECT_EQ(r.status, 2) << c.args << ": " << r.output;
+    EXPECT_NE(r.output.find(c.needle), std::string::npos) << c.args << ": " << r.output;
+    EXPECT_FALSE(Exists(out)) << c.args << ": the refused campaign left " << out;
+  }
+}
+
+TEST(Campaign, AnInterruptedCampaignSaysHowToResumeAndResumes) {
+  const std::string out = "/tmp/aar_campaign_interrupted";
+  aar_testing::RunCommand("rm -rf " + out);
+  // Interrupted (SIGINT, as Ctrl-C) once the first of its two runs is done, the second flying.
+  const std::string first = out + "/approaches/01/naive/run.json";
+  auto r = aar_testing::RunCommand(
+      ScriptsRun("--suite 1 --experiments naive,dynamic --rate 2 --jobs 1 --out " + out) +
+      " & pid=$!; for i in $(seq 1 300); do [ -e " + first +
+      " ] && break; sleep 1; done; sleep 3; kill -INT $pid; wait $pid");
+  EXPECT_EQ(r.status, 1) << r.output;
+  EXPECT_NE(r.output.find("fly what is missing with: scripts/run --resume " + out),
+            std::string::npos)
+      << r.output;
+  std::string md = Read(out + "/suite.md");
+  EXPECT_NE(md.find("**INCOMPLETE:** missing or short: 01/dynamic"), std::string::npos) << md;
+  EXPECT_NE(md.find("failed or missing runs (1): approaches/01/dynamic"), std::string::npos) << md;
+  EXPECT_NE(md.find("interrupted"), std::string::npos) << md;
+
+  // A new campaign may not write into it.
+  r = aar_testing::RunCommand(
+      ScriptsRun("--suite 1 --experiments naive --rate 2 --out " + out, 60));
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_NE(r.output.find("holds a campaign already: resume it with scripts/run --resume"),
+            std::string::npos)
+      << r.output;
+
+  const std::string kept = out + "/approaches/01/naive/frames.csv";
+  const long before = ModifiedNs(kept);
+  r = aar_testing::RunCommand(ScriptsRun("--resume " + out));
+  EXPECT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("1 of 2 runs done already; flying the other 1"), std::string::npos)
+      << r.output;
+  EXPECT_EQ(ModifiedNs(kept), before) << "the finished run was flown again";
+  md = Read(out + "/suite.md");
+  EXPECT_EQ(md.find("INCOMPLETE"), std::string::npos) << md;
+  EXPECT_NE(md.find("| dynamic | 1 |"), std::string::npos) << md;
+}
+
+TEST(Campaign, ASuiteThroughSlurmEqualsTheLocalOne) {
+  const std::string local = "/tmp/aar_campaign_local", slurm = "/tmp/aar_campaign_slurm";
+  aar_testing::RunCommand("rm -rf " + local + " " + slurm);
+  auto r = aar_testing::RunCommand(ScriptsRun(std::string(kSuite) + " --out " + local));
+  ASSERT_EQ(r.status, 0) << r.output;
+  // No cluster configured: the driver brings a single-node one up, and stops it at the end.
+  r = aar_testing::RunCommand("env -u SLURM_CONF " +
+                              ScriptsRun(std::string(kSuite) + " --engine slurm --out " + slurm));
+  ASSERT_EQ(r.status, 0) << r.output;
+  if (!Exists("/etc/slurm/slurm.conf"))
+    EXPECT_NE(r.output.find("bringing up a single-node one"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("4 runs submitted to Slurm as job array"), std::string::npos) << r.output;
+  for (int task = 0; task < 4; ++task) {
+    const std::string log =
+        aar_testing::RunCommand("cat " + slurm + "/slurm/*-task-" + std::to_string(task) + ".log")
+            .output;
+    EXPECT_NE(log.find(" frames, ok"), std::string::npos) << "task " << task << ": " << log;
+  }
+  EXPECT_NE(Read(slurm + "/run.txt").find("(slurm, job array"), std::string::npos);
+  const std::string expected = Results(local);
+  ASSERT_NE(expected.find("| dynamic | 2 |"), std::string::npos) << Read(local + "/suite.md");
+  EXPECT_EQ(Results(slurm), expected);
+  // The cluster it brought up is gone.
+  EXPECT_NE(aar_testing::RunCommand("pgrep -f 'slurmctld -f /tmp/aar-slurm[.]'").status, 0);
+}
+
+// A single-node cluster of the test's own, stopped however the test ends.
+struct Cluster {
+  const std::string dir = "/tmp/aar_campaign_cluster";
+  aar_testing::CommandResult up;
+  Cluster() {
+    aar_testing::RunCommand("rm -rf " + dir);
+    up = aar_testing::RunCommand("timeout 300 " + aar_testing::WorkspaceRoot() +
+                                 "/scripts/slurm-local up " + dir);
+  }
+  ~Cluster() {
+    aar_testing::RunCommand(aar_testing::WorkspaceRoot() + "/scripts/slurm-local down " + dir);
+  }
+};
+
+TEST(Campaign, ACancelledSlurmTaskIsNamedThenResumed) {
+  const std::string out = "/tmp/aar_campaign_cancelled";
+  aar_testing::RunCommand("rm -rf " + out);
+  const Cluster cluster;
+  ASSERT_EQ(cluster.up.status, 0) << cluster.up.output;
+  aar_testing::CommandResult r;
+  const std::string env = "env SLURM_CONF=/tmp/aar_campaign_cluster/slurm.conf ";
+
+  r = aar_testing::RunCommand(
+      env + ScriptsRun("--suite 1 --engine slurm --partition nosuch --out " + out, 60));
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_NE(r.output.find("no partition 'nosuch' on this cluster (partitions: aar)"),
+            std::string::npos)
+      << r.output;
+  EXPECT_FALSE(Exists(out));
+
+  r = aar_testing::RunCommand(
+      env +
+      ScriptsRun(
+          "--suite 1 --experiments naive,dynamic --rate 2 --engine slurm --no-wait --out " + out,
+          60));
+  ASSERT_EQ(r.status, 0) << r.output;
+  // Task 0 (approach 01, naive) cancelled once it flies.
+  EXPECT_TRUE(WaitFor(out + "/approaches/01/naive/launch.log", 120));
+  r = aar_testing::RunCommand(env + "sh -c 'sleep 3; scancel $(python3 -c \"import json; print(" +
+                              "json.load(open(\\\"" + out +
+                              "/slurm/jobs.json\\\"))[\\\"array\\\"])\")_0'");
+  EXPECT_EQ(r.status, 0) << r.output;
+  ASSERT_TRUE(WaitFor(out + "/slurm/merge.json", 300));
+  EXPECT_NE(Read(out + "/slurm/merge.json").find("\"missing\": [\"approaches/01/naive\"]"),
+            std::string::npos)
+      << Read(out + "/slurm/merge.json");
+  const std::string task0 = aar_testing::RunCommand("cat " + out + "/slurm/*-task-0.log").output;
+  EXPECT_NE(task0.find("(cancelled)"), std::string::npos) << task0;
+  std::string md = Read(out + "/suite.md");
+  EXPECT_NE(md.find("**INCOMPLETE:** missing or short: 01/naive"), std::string::npos) << md;
+
+  r = aar_testing::RunCommand(env + ScriptsRun("--resume " + out + " --engine slurm"));
+  EXPECT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("1 of 2 runs done already"), std::string::npos) << r.output;
+  md = Read(out + "/suite.md");
+  EXPECT_EQ(md.find("INCOMPLETE"), std::string::npos) << md;
+}
+
+}  // namespace
