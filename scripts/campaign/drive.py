@@ -63,16 +63,16 @@ def _drive_slurm(campaign, a, todo, start, started):
         return finish(campaign, "slurm", 0.0, 0)
     try:
         indices = [campaign.runs.index(r) for r in todo]
-        array, merge = slurm.submit(campaign, indices, a.partition, int(a.cpus_per_task),
+        arrays, merge = slurm.submit(campaign, indices, a.partition, int(a.cpus_per_task),
                                     int(a.max_parallel))
-        say(f"{len(todo)} runs submitted to Slurm as job array {array} "
-            f"(logs: {campaign.out}/slurm/{array}-task-N.log), merge job {merge} after it")
+        say(f"{len(todo)} runs submitted to Slurm as job array {', '.join(arrays)} "
+            f"(logs: {campaign.out}/slurm/ARRAY-task-N.log), merge job {merge} after them")
         if a.no_wait:
-            say(f"not waiting: the merge job writes the reports; squeue -j {array},{merge} "
+            say(f"not waiting: the merge job writes the reports; squeue -j {','.join(arrays)},{merge} "
                 f"to watch, scripts/run --resume {campaign.out} for what fails")
             return 0
         bound = sum(campaign.runs[i].timeout() for i in indices) + 600
-        record = slurm.wait(campaign, array, merge, bound)
+        record = slurm.wait(campaign, arrays, merge, bound)
     except Refused as e:
         fail(str(e))
     finally:

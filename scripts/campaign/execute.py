@@ -7,6 +7,7 @@ import re
 import shutil
 import signal
 import subprocess
+import threading
 import time
 
 from campaign.workspace import ros_env
@@ -32,12 +33,33 @@ def is_done(run, campaign_dir):
     return status.get("status") == "ok" and frames_recorded(out) == run.frames
 
 
+def tree_rss_mb(root):
+    """Resident memory of `root` and all its descendants (a run's roslaunch and its nodes,
+    which roslaunch starts in sessions of their own)."""
+    page, parent, rss = os.sysconf("SC_PAGE_SIZE"), {}, {}
+    for pid in filter(str.isdigit, os.listdir("/proc")):
+        try:
+            with open(f"/proc/{pid}/stat") as f:
+                parent[int(pid)] = int(f.read().rsplit(")", 1)[1].split()[1])
+            with open(f"/proc/{pid}/statm") as f:
+                rss[int(pid)] = int(f.read().split()[1]) * page
+        except (OSError, ValueError, IndexError):
+            continue
+    tree, grown = {root}, True
+    while grown:
+        more = {p for p, pp in parent.items() if pp in tree and p not in tree}
+        tree |= more
+        grown = bool(more)
+    return sum(rss.get(p, 0) for p in tree) / 2**20
+
+
 class Flight:
     """One attempt of one run; stop() ends it from another thread or a signal handler."""
 
     def __init__(self, run, out_dir, port):
         self.run, self.out_dir, self.port = run, out_dir, port
         self.proc = None
+        self.peak_rss_mb = 0.0
 
     def fly(self):
         env = dict(ros_env(), ROS_MASTER_URI=f"http://localhost:{self.port}")
@@ -46,7 +68,17 @@ class Flight:
             self.proc = subprocess.Popen(self.run.command(self.out_dir, self.port), stdout=log,
                                          stderr=subprocess.STDOUT, stdin=subprocess.DEVNULL,
                                          env=env, start_new_session=True)
-            return self.proc.wait()
+            sampler = threading.Thread(target=self._sample, daemon=True)
+            sampler.start()
+            code = self.proc.wait()
+            sampler.join()
+            return code
+
+    def _sample(self, period=2.0):
+        """The run's peak memory (every `period` s), for sizing cluster jobs."""
+        while self.proc.poll() is None:
+            self.peak_rss_mb = max(self.peak_rss_mb, tree_rss_mb(self.proc.pid))
+            time.sleep(period)
 
     def stop(self):
         if self.proc is not None and self.proc.poll() is None:
@@ -74,7 +106,8 @@ def execute(run, campaign_dir, port, stopping=lambda: False, on_flight=lambda f:
         code = flight.fly()
         rows = frames_recorded(out)
         status.update(attempts=attempt, recorded=rows, exit=code,
-                      seconds=round(time.monotonic() - t0, 1))
+                      seconds=round(time.monotonic() - t0, 1),
+                      peak_rss_mb=round(flight.peak_rss_mb))
         if rows == run.frames:
             status["status"] = "ok"
             break

@@ -18,6 +18,7 @@ def task(out, index):
     if not 0 <= index < len(campaign.runs):
         raise Refused(f"task {index}: campaign {out} has runs 0 to {len(campaign.runs) - 1}")
     run = campaign.runs[index]
+    say(f"run {index}: {run.key}")
     if is_done(run, out):
         say(f"{run.key}: done already")
         return 0
@@ -42,7 +43,7 @@ def merge(out):
         with open(os.path.join(out, "slurm", "jobs.json")) as f:
             jobs = json.load(f)
         seconds, flown = time.time() - jobs["submitted"], len(jobs["indices"])
-        engine = f"slurm, job array {jobs['array']}"
+        engine = f"slurm, job array {', '.join(jobs['arrays'])}"
     except (OSError, ValueError, KeyError):
         seconds, flown, engine = 0.0, 0, "slurm"
     status = finish(campaign, engine, seconds, flown)

@@ -57,29 +57,46 @@ def array_spec(indices):
     return ",".join(parts)
 
 
+def max_array_size():
+    """The cluster's MaxArraySize (task ids run from 0 to it minus 1); Slurm's default 1001."""
+    p = subprocess.run([command("scontrol") or "scontrol", "show", "config"], capture_output=True,
+                       text=True)
+    for line in p.stdout.splitlines():
+        key, _, value = line.partition("=")
+        if key.strip() == "MaxArraySize" and value.strip().isdigit():
+            return int(value)
+    return 1001
+
+
 def submit(campaign, indices, partition, cpus_per_task, max_parallel):
-    """Submits the array of `indices` (places in campaign.runs) and the merge job after it;
-    returns their job ids (also written to DIR/slurm/jobs.json)."""
+    """Submits `indices` (places in campaign.runs) as job arrays, as many as MaxArraySize asks
+    (array k holds runs k*size to (k+1)*size-1; task id = index - k*size), and the merge job
+    after them all; returns (array ids, merge id), also written to DIR/slurm/jobs.json."""
     folder = os.path.join(campaign.out, "slurm")
     os.makedirs(folder, exist_ok=True)
     common = ["sbatch", "--parsable", "--chdir", ROOT] + (["--partition", partition]
                                                           if partition else [])
-    limit = max(campaign.runs[i].timeout() for i in indices)
-    spec = array_spec(indices) + (f"%{max_parallel}" if max_parallel else "")
-    array = _slurm(common + [
-        f"--array={spec}", f"--cpus-per-task={cpus_per_task}", f"--time={limit // 60 + 2}",
-        "--job-name=aar-run", f"--output={folder}/%A-task-%a.log",
-        f"--wrap=exec {sys.executable} {DRIVER} task {campaign.out} $SLURM_ARRAY_TASK_ID"],
-        "sbatch (the array)").split(";")[0]
+    size = max_array_size()
+    arrays = []
+    for base in sorted({i // size * size for i in indices}):
+        chunk = [i - base for i in indices if base <= i < base + size]
+        limit = max(campaign.runs[base + t].timeout() for t in chunk)
+        spec = array_spec(chunk) + (f"%{max_parallel}" if max_parallel else "")
+        arrays.append(_slurm(common + [
+            f"--array={spec}", f"--cpus-per-task={cpus_per_task}", f"--time={limit // 60 + 2}",
+            "--job-name=aar-run", f"--output={folder}/%A-task-%a.log",
+            f"--wrap=exec {sys.executable} {DRIVER} task {campaign.out} "
+            f"$(({base} + SLURM_ARRAY_TASK_ID))"], "sbatch (a job array)").split(";")[0])
     merge = _slurm(common + [
-        f"--dependency=afterany:{array}", "--kill-on-invalid-dep=yes", "--cpus-per-task=1",
-        "--time=30", "--job-name=aar-merge", f"--output={folder}/%j-merge.log",
+        f"--dependency=afterany:{':'.join(arrays)}", "--kill-on-invalid-dep=yes",
+        "--cpus-per-task=1", "--time=30", "--job-name=aar-merge",
+        f"--output={folder}/%j-merge.log",
         f"--wrap=exec {sys.executable} {DRIVER} merge {campaign.out}"],
         "sbatch (the merge job)").split(";")[0]
     with open(os.path.join(folder, "jobs.json"), "w") as f:
-        json.dump({"array": array, "merge": merge, "indices": indices,
+        json.dump({"arrays": arrays, "array_size": size, "merge": merge, "indices": indices,
                    "submitted": time.time()}, f)
-    return array, merge
+    return arrays, merge
 
 
 def queued(job):
@@ -87,19 +104,20 @@ def queued(job):
     return p.returncode == 0 and p.stdout.strip() != ""
 
 
-def wait(campaign, array, merge, bound_seconds):
+def wait(campaign, arrays, merge, bound_seconds):
     """Waits until the merge job has left the queue (bounded); returns the merge's record."""
     deadline = time.monotonic() + bound_seconds
+    array = ",".join(arrays)
     try:
         while queued(merge) or queued(array):
             if time.monotonic() > deadline:
                 raise Refused(f"Slurm jobs {array} and {merge} still queued after "
-                              f"{bound_seconds / 60:.0f} min; they go on: scancel {array} {merge} "
+                              f"{bound_seconds / 60:.0f} min; they go on: scancel {' '.join(arrays)} {merge} "
                               f"to stop them, scripts/run --resume {campaign.out} afterwards")
             time.sleep(POLL_SECONDS)
     except KeyboardInterrupt:
         say(f"stopped waiting; Slurm jobs {array} (runs) and {merge} (merge) go on: squeue -j "
-            f"{array},{merge} to watch them, scancel {array} {merge} to stop them; when they "
+            f"{array},{merge} to watch them, scancel {' '.join(arrays)} {merge} to stop them; when they "
             f"end, scripts/run --resume {campaign.out} flies what is missing", error=True)
         raise
     try:

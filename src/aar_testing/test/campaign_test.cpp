@@ -8,6 +8,7 @@
 #include <sys/stat.h>
 
 #include <fstream>
+#include <regex>
 #include <sstream>
 #include <string>
 
@@ -149,13 +150,15 @@ TEST(Campaign, ASuiteThroughSlurmEqualsTheLocalOne) {
   EXPECT_NE(aar_testing::RunCommand("pgrep -f 'slurmctld -f /tmp/aar-slurm[.]'").status, 0);
 }
 
-// A single-node cluster of the test's own, stopped however the test ends.
+// A single-node cluster of the test's own, stopped however the test ends. MaxArraySize 1: each
+// run is an array of its own, as runs beyond MaxArraySize are on a real cluster.
 struct Cluster {
   const std::string dir = "/tmp/aar_campaign_cluster";
   aar_testing::CommandResult up;
   Cluster() {
     aar_testing::RunCommand("rm -rf " + dir);
-    up = aar_testing::RunCommand("timeout 300 " + aar_testing::WorkspaceRoot() +
+    up = aar_testing::RunCommand("AAR_SLURM_MAX_ARRAY_SIZE=1 timeout 300 " +
+                                 aar_testing::WorkspaceRoot() +
                                  "/scripts/slurm-local up " + dir);
   }
   ~Cluster() {
@@ -189,9 +192,13 @@ TEST(Campaign, ACancelledSlurmTaskIsNamedThenResumed) {
   EXPECT_TRUE(WaitFor(out + "/approaches/01/naive/launch.log", 120));
   r = aar_testing::RunCommand(env + "sh -c 'sleep 3; scancel $(python3 -c \"import json; print(" +
                               "json.load(open(\\\"" + out +
-                              "/slurm/jobs.json\\\"))[\\\"array\\\"])\")_0'");
+                              "/slurm/jobs.json\\\"))[\\\"arrays\\\"][0])\")_0'");
   EXPECT_EQ(r.status, 0) << r.output;
   ASSERT_TRUE(WaitFor(out + "/slurm/merge.json", 300));
+  const std::string jobs = Read(out + "/slurm/jobs.json");
+  EXPECT_NE(jobs.find("\"array_size\": 1"), std::string::npos) << jobs;
+  EXPECT_TRUE(std::regex_search(jobs, std::regex(R"("arrays": \["[0-9]+", "[0-9]+"\])")))
+      << "two arrays: " << jobs;
   EXPECT_NE(Read(out + "/slurm/merge.json").find("\"missing\": [\"approaches/01/naive\"]"),
             std::string::npos)
       << Read(out + "/slurm/merge.json");
