@@ -8,13 +8,14 @@ import sys
 
 from campaign import cluster, drive, plans, slurm, workspace
 from campaign.campaign import Campaign, Lock, refuse_existing
-from campaign.workspace import ROOT, Refused, fail, say
+from campaign.workspace import Refused, fail
 
 DEFAULTS = {
     "run": "no_boom,naive,static_wings_nose,dynamic,flight",
     "suite": "naive,no_boom,culling_only,dynamic_reference_only,dynamic,flight",
     "realism": "naive,no_boom,static_wings_nose,dynamic,tracking",
 }
+HELD = []  # the campaign folder's lock, held until the driver exits
 PLAN_KEYS = ("receiver", "flight_path", "experiments", "frames", "start_time", "sim_config",
              "out", "suite", "seed", "rate", "noise", "worlds")
 
@@ -96,6 +97,9 @@ def main(argv):
     if argv and argv[0] == "fly":
         from campaign import fly
         return fly.main(argv[1:])
+    if argv and argv[0] == "cost":
+        from campaign import cost
+        return cost.main(argv[1:])
     kind, argv = argv[0], argv[1:]
     if kind == "run" and "--suite" in argv:
         kind = "suite"
@@ -107,8 +111,9 @@ def main(argv):
         if a.resume is not None:
             given = [k for k in PLAN_KEYS if getattr(a, k, None) is not None]
             if given:
+                flag = "--" + given[0].replace("_", "-")
                 raise Refused("--resume flies the campaign's own plan: give only --jobs, "
-                              f"--engine and the Slurm options with it (got --{given[0].replace('_', '-')})")
+                              f"--engine and the Slurm options with it (got {flag})")
             out = workspace.absolute(a.resume, a.caller)
             campaign, fresh = Campaign.load(out), None
             workspace.PROG = campaign.kind
@@ -123,7 +128,7 @@ def main(argv):
                               "here stops when it returns")
             started = cluster.ensure()  # stopped by drive(), or below when refused
             slurm.check(a.partition)
-        lock = Lock(out)  # noqa: F841 (held until the driver exits)
+        HELD.append(Lock(out))
         if not a.no_build:
             workspace.setup_and_build()
         if fresh is not None:

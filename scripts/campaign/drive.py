@@ -68,8 +68,9 @@ def _drive_slurm(campaign, a, todo, start, started):
         say(f"{len(todo)} runs submitted to Slurm as job array {', '.join(arrays)} "
             f"(logs: {campaign.out}/slurm/ARRAY-task-N.log), merge job {merge} after them")
         if a.no_wait:
-            say(f"not waiting: the merge job writes the reports; squeue -j {','.join(arrays)},{merge} "
-                f"to watch, scripts/run --resume {campaign.out} for what fails")
+            say(f"not waiting: the merge job writes the reports; squeue -j "
+                f"{','.join(arrays)},{merge} to watch, scripts/run --resume {campaign.out} "
+                f"for what fails")
             return 0
         bound = sum(campaign.runs[i].timeout() for i in indices) + 600
         record = slurm.wait(campaign, arrays, merge, bound)

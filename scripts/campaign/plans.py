@@ -11,15 +11,17 @@ from campaign.plan import Run, frame_count, path_times, sim_rate
 from campaign.workspace import ROOT, Refused, absolute, tool, utc_stamp
 
 USAGE = {
-    "run": "The main job: each experiment flown along one path in lockstep; writes DIR/report.md,\n"
-           "per-frame CSVs, plots and the configuration used (default DIR: results/<UTC time>).",
+    "run": "The main job: each experiment flown along one path in lockstep; writes\n"
+           "DIR/report.md, per-frame CSVs, plots and the configuration used (default DIR:\n"
+           "results/<UTC time>). With --suite N: N seeded approaches (scripts/run --suite -h).",
     "suite": "N seeded approaches (aar_sim's generate_approach, seed S*1000+i: start offset,\n"
              "closure, wander and boom motion vary), each experiment on each, with sensor noise\n"
-             "seeded per approach; writes DIR/suite.md (means over approaches with 95 % intervals,\n"
-             "paired improvements) and each run's frames.csv under DIR/approaches/NN/.",
+             "seeded per approach; writes DIR/suite.md (means over approaches with 95 %\n"
+             "intervals, paired improvements) and each run's frames.csv under\n"
+             "DIR/approaches/NN/.",
     "realism": "The same seeded suite flown in each world: ideal (config/sim.yaml alone) and each\n"
-               "NAME, config/realism/NAME.yaml over it; writes DIR/<world>/suite.md and DIR/worlds.md\n"
-               "(each world's cost against the ideal one; docs/realism/README.md).",
+               "NAME, config/realism/NAME.yaml over it; writes DIR/<world>/suite.md and\n"
+               "DIR/worlds.md (each world's cost against the ideal one; docs/realism/README.md).",
 }
 DEFAULT_EXPERIMENTS = {
     "run": "no_boom,naive,static_wings_nose,dynamic,flight",
@@ -191,7 +193,7 @@ def _create_suites(f):
                    f"--noise {f.noise} --out {f.out}")
     runs = []
     for w in worlds:
-        unit = os.path.join(f.out, w)
+        unit = os.path.normpath(os.path.join(f.out, w))
         sim_config = f.sim_config
         if f.kind == "realism" and w != "ideal":
             sim_config = os.path.join(ROOT, "config/realism", w + ".yaml")

@@ -38,8 +38,9 @@ def write_reports(campaign):
         return os.path.join(out, "report.md"), ok
     ok = True
     for unit in campaign.units:
-        ok &= _call([tool("aar_eval", "make_report"), "--suite", os.path.normpath(os.path.join(out, unit)),
-                     experiments, SUITE_BASELINES]) == 0
+        unit_dir = os.path.normpath(os.path.join(out, unit))
+        ok &= _call([tool("aar_eval", "make_report"), "--suite", unit_dir, experiments,
+                     SUITE_BASELINES]) == 0
     if campaign.kind == "suite":
         return os.path.join(out, "suite.md"), ok
     pairs = ",".join(f"{w}={os.path.join(out, w)}" for w in campaign.units)

@@ -100,7 +100,8 @@ def submit(campaign, indices, partition, cpus_per_task, max_parallel):
 
 
 def queued(job):
-    p = subprocess.run([command("squeue"), "-h", "-j", job, "-o", "%T"], capture_output=True, text=True)
+    p = subprocess.run([command("squeue"), "-h", "-j", job, "-o", "%T"], capture_output=True,
+                       text=True)
     return p.returncode == 0 and p.stdout.strip() != ""
 
 
@@ -112,13 +113,15 @@ def wait(campaign, arrays, merge, bound_seconds):
         while queued(merge) or queued(array):
             if time.monotonic() > deadline:
                 raise Refused(f"Slurm jobs {array} and {merge} still queued after "
-                              f"{bound_seconds / 60:.0f} min; they go on: scancel {' '.join(arrays)} {merge} "
-                              f"to stop them, scripts/run --resume {campaign.out} afterwards")
+                              f"{bound_seconds / 60:.0f} min; they go on: scancel "
+                              f"{' '.join(arrays)} {merge} to stop them, scripts/run --resume "
+                              f"{campaign.out} afterwards")
             time.sleep(POLL_SECONDS)
     except KeyboardInterrupt:
         say(f"stopped waiting; Slurm jobs {array} (runs) and {merge} (merge) go on: squeue -j "
-            f"{array},{merge} to watch them, scancel {' '.join(arrays)} {merge} to stop them; when they "
-            f"end, scripts/run --resume {campaign.out} flies what is missing", error=True)
+            f"{array},{merge} to watch them, scancel {' '.join(arrays)} {merge} to stop them; "
+            f"when they end, scripts/run --resume {campaign.out} flies what is missing",
+            error=True)
         raise
     try:
         with open(os.path.join(campaign.out, "slurm", "merge.json")) as f:

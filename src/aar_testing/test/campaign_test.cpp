@@ -158,8 +158,7 @@ struct Cluster {
   Cluster() {
     aar_testing::RunCommand("rm -rf " + dir);
     up = aar_testing::RunCommand("AAR_SLURM_MAX_ARRAY_SIZE=1 timeout 300 " +
-                                 aar_testing::WorkspaceRoot() +
-                                 "/scripts/slurm-local up " + dir);
+                                 aar_testing::WorkspaceRoot() + "/scripts/slurm-local up " + dir);
   }
   ~Cluster() {
     aar_testing::RunCommand(aar_testing::WorkspaceRoot() + "/scripts/slurm-local down " + dir);
