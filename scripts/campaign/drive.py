@@ -6,7 +6,7 @@ import time
 
 from campaign import local, slurm, cluster
 from campaign.campaign import append_provenance
-from campaign.execute import is_done
+from campaign.execute import is_done, reason_of
 from campaign.reports import write_reports
 from campaign.workspace import Refused, commit, fail, say, utc_now
 
@@ -19,6 +19,8 @@ def finish(campaign, engine, seconds, flown, interrupted=False):
         lines.append("interrupted: the runs not finished are missing")
     if missing:
         lines.append(f"failed or missing runs ({len(missing)}): {', '.join(missing)}")
+        reasons = {r.key: reason_of(r, campaign.out) for r in campaign.runs if r.key in missing}
+        lines += [f"  {key}: {why}" for key, why in reasons.items() if why]
     append_provenance(campaign, lines)
     path, ok = write_reports(campaign)
     say(f"wrote {path}")

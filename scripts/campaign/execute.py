@@ -23,6 +23,15 @@ def frames_recorded(out_dir):
         return 0
 
 
+def reason_of(run, campaign_dir):
+    """Why a run that is not done failed, when its run.json says."""
+    try:
+        with open(os.path.join(campaign_dir, run.key, "run.json")) as f:
+            return json.load(f).get("reason", "")
+    except (OSError, ValueError):
+        return ""
+
+
 def is_done(run, campaign_dir):
     out = os.path.join(campaign_dir, run.key)
     try:
@@ -112,17 +121,42 @@ def execute(run, campaign_dir, port, stopping=lambda: False, on_flight=lambda f:
             status["status"] = "ok"
             break
         status["status"] = "interrupted" if stopping() else "failed"
+        reason = refusal(out)
+        if reason:  # a stage refused to start: the same again on a retry
+            status["reason"] = reason
+            break
     with open(os.path.join(out, "run.json"), "w") as f:
         json.dump(status, f, indent=1)
     return status
+
+
+# What a launch that could not start says: a stage refusing its parameters or model (FATAL,
+# aar_ros_common::EndProcessOnStartFailure), roslaunch refusing the launch (an experiment's
+# unknown namespace, check_experiment.py; a missing file).
+REFUSALS = re.compile(r"\[FATAL\].*|check_experiment: .*|RLException: .*|"
+                      r"ERROR: cannot launch node.*")
+
+
+def refusal(out_dir):
+    """The first line of the run's log that says why it could not start, or ""."""
+    try:
+        with open(os.path.join(out_dir, "launch.log"), errors="replace") as f:
+            for line in f:
+                found = REFUSALS.search(re.sub(r"\x1b\[[0-9;]*m", "", line))
+                if found:
+                    return found.group(0).strip()[:400]
+    except OSError:
+        pass
+    return ""
 
 
 def describe(status):
     if status["status"] == "ok":
         retried = " (on its retry)" if status["attempts"] > 1 else ""
         return f"ok{retried}, {status['seconds']:.0f} s"
+    why = f": {status['reason']}" if status.get("reason") else ""
     return (f"{status['status'].upper()} ({status.get('recorded', 0)} of {status['frames']} "
-            f"frames, {status['attempts']} attempt(s))")
+            f"frames, {status['attempts']} attempt(s)){why}")
 
 
 def eval_lines(run, campaign_dir, lines=12):

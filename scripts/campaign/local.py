@@ -11,7 +11,10 @@ from campaign.workspace import free_ports, say
 def run_local(campaign, runs, jobs):
     """Flies `runs` (a list of Run); returns (failed keys, interrupted)."""
     free = free_ports(jobs)
-    lock = threading.Lock()
+    # Re-entrant: the signal handler below takes it in the main thread, and a second signal can
+    # arrive while the first one's handler holds it (`timeout` sends its SIGINT to the child
+    # and to the child's group: seen to deadlock a driver with a plain lock).
+    lock = threading.RLock()
     failed, flights, done = [], set(), [0]
     stop = threading.Event()
 

@@ -4,6 +4,7 @@ import glob
 import os
 import re
 import subprocess
+import sys
 import types
 
 from campaign.campaign import Campaign, copy_configuration, write_provenance
@@ -35,12 +36,22 @@ def _names(folder, pattern="*.yaml"):
     return sorted(os.path.basename(p)[:-5] for p in glob.glob(os.path.join(ROOT, folder, pattern)))
 
 
+CHECK_EXPERIMENT = os.path.join(ROOT, "src/aar_ros_common/scripts/check_experiment.py")
+
+
 def _experiments(value, kind):
+    """The experiments named, each a file of config/experiments/ whose namespaces are the
+    stages' (check_experiment.py, which the launch file runs too)."""
     names = [e for e in (value or DEFAULT_EXPERIMENTS[kind]).split(",") if e]
     for e in names:
-        if not os.path.isfile(os.path.join(ROOT, "config/experiments", e + ".yaml")):
+        path = os.path.join(ROOT, "config/experiments", e + ".yaml")
+        if not os.path.isfile(path):
             raise Refused(f"no experiment '{e}' in config/experiments/ (available: "
                           f"{','.join(_names('config/experiments'))})")
+        check = subprocess.run([sys.executable, CHECK_EXPERIMENT, path], capture_output=True,
+                               text=True)
+        if check.returncode != 0:
+            raise Refused(f"experiment '{e}' refused:\n{check.stderr.strip()}")
     return names
 
 

@@ -18,3 +18,20 @@ source_devel() {
   source "$root/${AAR_DEVEL:-devel}/setup.bash"
   set -u
 }
+
+# Numeric arguments, checked before anything starts; each exits 2 naming the flag and the value.
+#   positive FLAG VALUE       a number > 0 (e.g. a rate)
+#   nonnegative FLAG VALUE    a number >= 0 (e.g. a path time)
+#   whole FLAG VALUE [MIN]    a whole number >= MIN (default 0), at most 9 digits
+refuse_argument() { echo "$(basename "$0"): $1 takes $2, not '$3'" >&2; exit 2; }
+positive() {
+  [[ "$2" =~ ^[0-9]*\.?[0-9]+$ ]] && awk -v v="$2" 'BEGIN {exit !(v > 0)}' ||
+    refuse_argument "$1" "a number above 0" "$2"
+}
+nonnegative() {
+  [[ "$2" =~ ^[0-9]*\.?[0-9]+$ ]] || refuse_argument "$1" "a number of at least 0" "$2"
+}
+whole() {
+  [[ "$2" =~ ^[0-9]{1,9}$ && "$2" -ge "${3:-0}" ]] ||
+    refuse_argument "$1" "a whole number of at least ${3:-0}" "$2"
+}

@@ -426,6 +426,18 @@ TEST(Config, FlightHoldsTrackingOutlinesSettings) {
   EXPECT_TRUE(no_boom.toXml() == flight.toXml()) << "flight_no_boom differs from flight";
 }
 
+// `load` (a loader on `bad`) throws std::invalid_argument naming bad's `key` by its full name.
+template <typename Load>
+void ExpectRefusedByName(const ros::NodeHandle& bad, const std::string& key, Load load) {
+  try {
+    load();
+    ADD_FAILURE() << bad.getNamespace() << "/" << key << " was accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find(bad.getNamespace() + "/" + key), std::string::npos)
+        << e.what();
+  }
+}
+
 // Issue 29's options are off unless asked for (the boom modelled, no depth margin, the thesis's
 // point-to-point ICP); out-of-range values are refused naming the key.
 TEST(Config, StereoRaysAndDepthMarginOffByDefaultBadValuesRefused) {
@@ -449,17 +461,33 @@ TEST(Config, StereoRaysAndDepthMarginOffByDefaultBadValuesRefused) {
   for (const auto& [node, key, value] : bad_values) {
     ros::NodeHandle bad("/" + node + "_issue29_bad_" + key);
     bad.setParam(key, value);
-    try {
+    ExpectRefusedByName(bad, key, [&] {
       if (node == "occlusion") {
         aar_occlusion::LoadOcclusionNodeOptions(bad);
       } else {
         aar_registration::LoadRegistrationNodeOptions(bad);
       }
-      ADD_FAILURE() << key << " = " << value << " was accepted";
-    } catch (const std::invalid_argument& e) {
-      EXPECT_NE(std::string(e.what()).find(bad.getNamespace() + "/" + key), std::string::npos)
-          << e.what();
+    });
+  }
+}
+
+// The tracker's keys are refused under the names the YAML gives them (issue 31: a negative
+// max_coast was refused as "max_coast_s", the C++ field's name, which no file has).
+TEST(Config, TrackerKeysAreRefusedUnderTheirYamlNames) {
+  const std::vector<std::pair<std::string, double>> bad_values = {
+      {"max_coast", -1.0},
+      {"gate_chi2", 0.0},
+      {"acceleration_sigma", -1.0},
+      {"initial_angular_velocity_sigma", 0.0},
+      {"max_rejections", 0.0}};
+  for (const auto& [key, value] : bad_values) {
+    ros::NodeHandle bad("/registration_issue31_bad_" + key);
+    if (key == "max_rejections") {
+      bad.setParam(key, static_cast<int>(value));
+    } else {
+      bad.setParam(key, value);
     }
+    ExpectRefusedByName(bad, key, [&] { aar_registration::LoadRegistrationNodeOptions(bad); });
   }
 }
 

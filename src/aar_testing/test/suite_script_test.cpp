@@ -91,3 +91,32 @@ TEST(RealismScript, BadArgumentsAreNamedAndRefused) {
 }
 
 }  // namespace
+
+namespace {
+
+// Numeric arguments of the other scripts are checked before anything starts (issue 31: replay's
+// --rate 0 or abc grew a shell to 21 GB and never ended, --rate -1 blamed "no truth").
+TEST(ScriptArguments, BadNumbersAreNamedAndRefusedAtOnce) {
+  const std::string bag = aar_testing::WorkspaceRoot() + "/rosbags/sample_contact.bag";
+  const struct {
+    std::string command, needle;
+  } cases[] = {
+      {"replay " + bag + " --rate 0", "replay: --rate takes a number above 0, not '0'"},
+      {"replay " + bag + " --rate abc", "replay: --rate takes a number above 0, not 'abc'"},
+      {"replay " + bag + " --rate -1", "replay: --rate takes a number above 0, not '-1'"},
+      {"make-sample-bag --frames 0",
+       "make-sample-bag: --frames takes a whole number of at least 1, not '0'"},
+      {"make-sample-bag --start x", "make-sample-bag: --start takes a number of at least 0"},
+      {"bench-realtime --rate 0", "bench-realtime: --rate takes a number above 0, not '0'"},
+      {"bench-realtime --speed -2", "bench-realtime: --speed takes a number above 0, not '-2'"},
+  };
+  for (const auto& c : cases) {
+    const auto r = aar_testing::RunCommand("timeout 60 " + aar_testing::WorkspaceRoot() +
+                                           "/scripts/" + c.command + " --no-build");
+    EXPECT_EQ(r.status, 2) << c.command << ": " << r.output;
+    EXPECT_NE(r.output.find(c.needle), std::string::npos) << c.command << ": " << r.output;
+    EXPECT_LT(r.seconds, 10.0) << c.command;
+  }
+}
+
+}  // namespace

@@ -1,6 +1,8 @@
 #include <nodelet/nodelet.h>
 #include <pluginlib/class_list_macros.hpp>
 
+#include <aar_ros_common/start_failure.h>
+
 #include "aar_eval/ros/eval_node.h"
 
 namespace aar_eval {
@@ -12,7 +14,7 @@ class EvalNodelet : public nodelet::Nodelet {
       node_ = std::make_unique<EvalNode>(getMTNodeHandle(),
                                          LoadEvalNodeOptions(getPrivateNodeHandle()));
     } catch (const std::exception& e) {
-      NODELET_FATAL_STREAM("eval: " << e.what());
+      aar_ros_common::EndProcessOnStartFailure("eval", e);
     }
   }
   std::unique_ptr<EvalNode> node_;

@@ -1,6 +1,8 @@
 #include <nodelet/nodelet.h>
 #include <pluginlib/class_list_macros.hpp>
 
+#include <aar_ros_common/start_failure.h>
+
 #include "aar_occlusion/ros/occlusion_node.h"
 
 namespace aar_occlusion {
@@ -12,7 +14,7 @@ class OcclusionNodelet : public nodelet::Nodelet {
       node_ = std::make_unique<OcclusionNode>(getMTNodeHandle(), getMTPrivateNodeHandle(),
                                               LoadOcclusionNodeOptions(getPrivateNodeHandle()));
     } catch (const std::exception& e) {
-      NODELET_FATAL_STREAM("occlusion: " << e.what());
+      aar_ros_common::EndProcessOnStartFailure("occlusion", e);
     }
   }
   std::unique_ptr<OcclusionNode> node_;

@@ -1,6 +1,8 @@
 #include <nodelet/nodelet.h>
 #include <pluginlib/class_list_macros.hpp>
 
+#include <aar_ros_common/start_failure.h>
+
 #include "aar_registration/ros/registration_node.h"
 
 namespace aar_registration {
@@ -13,7 +15,7 @@ class RegistrationNodelet : public nodelet::Nodelet {
           std::make_unique<RegistrationNode>(getMTNodeHandle(), getMTPrivateNodeHandle(),
                                              LoadRegistrationNodeOptions(getPrivateNodeHandle()));
     } catch (const std::exception& e) {
-      NODELET_FATAL_STREAM("registration: " << e.what());
+      aar_ros_common::EndProcessOnStartFailure("registration", e);
     }
   }
   std::unique_ptr<RegistrationNode> node_;

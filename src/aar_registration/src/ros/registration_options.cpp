@@ -74,15 +74,17 @@ RegistrationNodeOptions LoadRegistrationNodeOptions(aar_ros_common::ParamReader&
   r.gate.min_fitness = params.Get("gate_min_fitness", r.gate.min_fitness);
   r.gate.max_rms = params.Get("gate_max_rms", r.gate.max_rms);
   TrackerOptions& t = r.tracker;
-  t.acceleration_sigma = params.Get("acceleration_sigma", t.acceleration_sigma);
+  // Checked here under their YAML names (the tracker checks them again under its own).
+  t.acceleration_sigma = params.GetPositive("acceleration_sigma", t.acceleration_sigma);
   t.angular_acceleration_sigma =
-      params.Get("angular_acceleration_sigma", t.angular_acceleration_sigma);
-  t.initial_velocity_sigma = params.Get("initial_velocity_sigma", t.initial_velocity_sigma);
+      params.GetPositive("angular_acceleration_sigma", t.angular_acceleration_sigma);
+  t.initial_velocity_sigma = params.GetPositive("initial_velocity_sigma", t.initial_velocity_sigma);
   t.initial_angular_velocity_sigma =
-      params.Get("initial_angular_velocity_sigma", t.initial_angular_velocity_sigma);
-  t.gate_chi2 = params.Get("gate_chi2", t.gate_chi2);
+      params.GetPositive("initial_angular_velocity_sigma", t.initial_angular_velocity_sigma);
+  t.gate_chi2 = params.GetPositive("gate_chi2", t.gate_chi2);
   t.max_rejections = params.Get("max_rejections", t.max_rejections);
-  t.max_coast_s = params.Get("max_coast", t.max_coast_s);
+  params.Check(t.max_rejections >= 1, "max_rejections", "must be >= 1");
+  t.max_coast_s = params.GetPositive("max_coast", t.max_coast_s);
   OutlineOptions& outline = r.outline;
   outline.enabled = params.Get("outline", outline.enabled);
   outline.min_quality = params.Get("outline_min_quality", outline.min_quality);

@@ -53,6 +53,16 @@ class ParamReader {
     return value;
   }
 
+  // A sigma, rate or duration that must be finite and > 0. Throws std::invalid_argument naming
+  // the key and the value.
+  double GetPositive(const std::string& name, double fallback) {
+    const double value = Get(name, fallback);
+    if (!(value > 0.0 && std::isfinite(value)))
+      throw std::invalid_argument("parameter " + Resolve(name) +
+                                  " must be a finite number > 0, not " + std::to_string(value));
+    return value;
+  }
+
   // Throws std::invalid_argument when unset, empty or of the wrong type; `what` says what it is.
   std::string Required(const std::string& name, const std::string& what) {
     const std::string value = Get<std::string>(name, "");

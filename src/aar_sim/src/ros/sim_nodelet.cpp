@@ -1,6 +1,8 @@
 #include <nodelet/nodelet.h>
 #include <pluginlib/class_list_macros.hpp>
 
+#include <aar_ros_common/start_failure.h>
+
 #include "aar_sim/ros/sim_node.h"
 
 namespace aar_sim {
@@ -15,7 +17,7 @@ class SimNodelet : public nodelet::Nodelet {
           std::make_unique<SimNode>(getMTNodeHandle(), LoadSimNodeOptions(getPrivateNodeHandle()));
       node_->Start();
     } catch (const std::exception& e) {
-      NODELET_FATAL_STREAM("sim: " << e.what());
+      aar_ros_common::EndProcessOnStartFailure("sim", e);
     }
   }
   std::unique_ptr<SimNode> node_;

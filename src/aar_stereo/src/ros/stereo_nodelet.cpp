@@ -1,6 +1,8 @@
 #include <nodelet/nodelet.h>
 #include <pluginlib/class_list_macros.hpp>
 
+#include <aar_ros_common/start_failure.h>
+
 #include "aar_stereo/ros/stereo_node.h"
 
 namespace aar_stereo {
@@ -13,7 +15,7 @@ class StereoNodelet : public nodelet::Nodelet {
       node_ = std::make_unique<StereoNode>(getMTNodeHandle(), getMTPrivateNodeHandle(),
                                            LoadStereoNodeOptions(getPrivateNodeHandle()));
     } catch (const std::exception& e) {
-      NODELET_FATAL_STREAM("stereo: " << e.what());
+      aar_ros_common::EndProcessOnStartFailure("stereo", e);
     }
   }
   std::unique_ptr<StereoNode> node_;

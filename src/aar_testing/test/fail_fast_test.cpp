@@ -1,0 +1,68 @@
+// Bad configuration ends a run at once, naming the cause (issue 31): a stage refusing a
+// parameter ends its process (the nodelet manager with it) and so the launch; an experiment
+// with a namespace no stage reads stops roslaunch before any node starts; the campaign driver
+// records the cause and does not retry what would fail the same way. Before, the manager stayed
+// up, every frame waited out the lockstep timeout (5 s) and the launch exited 0.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <string>
+
+#include "aar_testing/command.h"
+#include "aar_testing/paths.h"
+
+namespace {
+
+// One run of launch/pipeline.launch through the campaign driver's `fly` (a master of its own,
+// bounded), 20 frames, with the experiment's settings from `file`.
+aar_testing::CommandResult Fly(const std::string& file, const std::string& out) {
+  return aar_testing::RunCommand(
+      "timeout 300 python3 " + aar_testing::WorkspaceRoot() +
+      "/scripts/campaign fly --experiment naive --frames 20 --start-time 40 --flight-path " +
+      aar_testing::DefaultApproachPath() + " --out " + out + " experiment_file:=" + file);
+}
+
+std::string Write(const std::string& path, const std::string& text) {
+  std::ofstream(path) << text;
+  return path;
+}
+
+std::string Read(const std::string& path) {
+  std::ifstream in(path);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+TEST(FailFast, AStageRefusingAParameterEndsTheRunNamingTheKey) {
+  const std::string file =
+      Write("/tmp/aar_fail_fast_value.yaml", "registration:\n  icp_plane_sigma: -1.0\n");
+  const auto r = Fly(file, "/tmp/aar_fail_fast_value");
+  EXPECT_EQ(r.status, 1) << r.output;
+  EXPECT_NE(r.output.find("icp_plane_sigma"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("registration cannot start: its process ends"), std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("1 attempt(s)"), std::string::npos) << "retried: " << r.output;
+  // Start-up (master, manager, the renderer) is about 5 s; the 20 frames would take 5 s each.
+  EXPECT_LT(r.seconds, 30.0) << r.output;
+  EXPECT_NE(Read("/tmp/aar_fail_fast_value/run.json").find("\"reason\""), std::string::npos);
+}
+
+TEST(FailFast, AnExperimentNamespaceNoStageReadsStopsTheLaunchBeforeAnyNode) {
+  const std::string file =
+      Write("/tmp/aar_fail_fast_namespace.yaml", "registraton:\n  track: true\n");
+  const auto r = Fly(file, "/tmp/aar_fail_fast_namespace");
+  EXPECT_EQ(r.status, 1) << r.output;
+  EXPECT_NE(r.output.find("unknown namespace 'registraton' (no stage reads it"), std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("1 attempt(s)"), std::string::npos) << "retried: " << r.output;
+  EXPECT_LT(r.seconds, 20.0) << r.output;
+}
+
+TEST(FailFast, EveryShippedExperimentHasOnlyTheStagesNamespaces) {
+  const auto r = aar_testing::RunCommand(
+      "for f in " + aar_testing::ConfigDir() + "/experiments/*.yaml; do python3 " +
+      aar_testing::WorkspaceRoot() +
+      "/src/aar_ros_common/scripts/check_experiment.py $f >/dev/null || exit 1; done");
+  EXPECT_EQ(r.status, 0) << r.output;
+}
+
+}  // namespace
