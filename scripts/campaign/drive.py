@@ -33,11 +33,13 @@ def finish(campaign, engine, seconds, flown, interrupted=False):
     return 0
 
 
-def _jobs(a, runs):
-    cores = os.cpu_count() or 1
+def _jobs(a, campaign, runs):
+    """--jobs, or 1 for one path (the main job, as it always ran), else 2 if there are cores."""
     if a.jobs is not None:
         return int(a.jobs)
-    return min(cores, 2, max(1, len(runs))) if len(runs) > 1 and cores > 1 else 1
+    if campaign.kind == "run":
+        return 1
+    return max(1, min(os.cpu_count() or 1, 2, len(runs)))
 
 
 def drive(campaign, a, started=None):
@@ -51,7 +53,7 @@ def drive(campaign, a, started=None):
                                      f"{len(todo)} runs to fly"])
     start = time.monotonic()
     if a.engine == "local":
-        jobs = _jobs(a, todo) if campaign.kind != "run" or a.jobs else 1
+        jobs = _jobs(a, campaign, todo)
         say(f"{len(todo)} runs, {jobs} at a time; out {campaign.out}")
         _, interrupted = local.run_local(campaign, todo, jobs) if todo else ([], False)
         return finish(campaign, f"local, {jobs} at a time", time.monotonic() - start,
@@ -75,9 +77,11 @@ def _drive_slurm(campaign, a, todo, start, started):
                 f"for what fails")
             return 0
         bound = sum(campaign.runs[i].timeout() for i in indices) + 600
-        record = slurm.wait(campaign, arrays, merge, bound)
+        record = slurm.wait(campaign, arrays, merge, bound, own_cluster=bool(started))
     except Refused as e:
         fail(str(e))
+    except KeyboardInterrupt:
+        return 1
     finally:
         if not a.no_wait:
             cluster.stop(started)

@@ -5,6 +5,7 @@ every node shares; nothing else is assumed of the cluster (docs/CLUSTER.md)."""
 import json
 import os
 import shutil
+import signal
 import subprocess
 import sys
 import time
@@ -105,10 +106,14 @@ def queued(job):
     return p.returncode == 0 and p.stdout.strip() != ""
 
 
-def wait(campaign, arrays, merge, bound_seconds):
+def wait(campaign, arrays, merge, bound_seconds, own_cluster=False):
     """Waits until the merge job has left the queue (bounded); returns the merge's record."""
     deadline = time.monotonic() + bound_seconds
     array = ",".join(arrays)
+
+    def interrupted(signum, frame):  # Ctrl-C or SIGTERM (also when started in the background)
+        raise KeyboardInterrupt
+    previous = [signal.signal(s, interrupted) for s in (signal.SIGINT, signal.SIGTERM)]
     try:
         while queued(merge) or queued(array):
             if time.monotonic() > deadline:
@@ -118,11 +123,19 @@ def wait(campaign, arrays, merge, bound_seconds):
                               f"{campaign.out} afterwards")
             time.sleep(POLL_SECONDS)
     except KeyboardInterrupt:
+        if own_cluster:
+            say(f"interrupted: the single-node cluster this driver brought up stops, and its "
+                f"jobs with it; scripts/run --resume {campaign.out} flies what is missing",
+                error=True)
+            raise
         say(f"stopped waiting; Slurm jobs {array} (runs) and {merge} (merge) go on: squeue -j "
             f"{array},{merge} to watch them, scancel {' '.join(arrays)} {merge} to stop them; "
             f"when they end, scripts/run --resume {campaign.out} flies what is missing",
             error=True)
         raise
+    finally:
+        for s, handler in zip((signal.SIGINT, signal.SIGTERM), previous):
+            signal.signal(s, handler)
     try:
         with open(os.path.join(campaign.out, "slurm", "merge.json")) as f:
             return json.load(f)
