@@ -68,6 +68,13 @@ TEST(Conversions, BadCameraInfosAndImagesNameTheProblem) {
   sensor_msgs::CameraInfo smaller = r;
   smaller.width = 640;
   expect([&] { ToStereoGeometry(l, smaller); }, "camera infos differ in size");
+  // Found by the stereo_input fuzz target (issue 31): image_geometry asserted (aborted).
+  sensor_msgs::CameraInfo binned = r;
+  binned.binning_x = 2;
+  expect([&] { ToStereoGeometry(l, binned); }, "differ in binning or in their region of interest");
+  sensor_msgs::CameraInfo cropped = r;
+  cropped.roi.y_offset = 10;
+  expect([&] { ToStereoGeometry(l, cropped); }, "differ in binning or in their region of interest");
   sensor_msgs::CameraInfo nan = r;
   nan.P[2] = std::nan("");
   expect([&] { ToStereoGeometry(l, nan); }, "right camera info (right) P is not finite");

@@ -66,6 +66,15 @@ StereoGeometry ToStereoGeometry(const sensor_msgs::CameraInfo& left,
                                 ", right (" + right_topic + ") " + std::to_string(right.width) +
                                 "x" + std::to_string(right.height));
   }
+  // image_geometry scales P by binning and shifts it by the region of interest, then asserts
+  // that the two cameras' fx, fy and cy agree: a pair binned or cropped differently aborted it.
+  const auto bins = [](uint32_t b) { return b > 1 ? b : 1u; };  // 0 and 1: no binning
+  if (bins(left.binning_x) != bins(right.binning_x) ||
+      bins(left.binning_y) != bins(right.binning_y) || left.roi.y_offset != right.roi.y_offset) {
+    throw std::invalid_argument("left (" + left_topic + ") and right (" + right_topic +
+                                ") camera infos differ in binning or in their region of "
+                                "interest's row offset: not a rectified pair");
+  }
   if (left.P[0] != right.P[0] || left.P[5] != right.P[5] || left.P[6] != right.P[6]) {
     throw std::invalid_argument("left (" + left_topic + ") and right (" + right_topic +
                                 ") camera infos differ in fx, fy or cy: not a rectified pair");
