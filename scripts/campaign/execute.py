@@ -137,16 +137,21 @@ REFUSALS = re.compile(r"\[FATAL\].*|check_experiment: .*|RLException: .*|"
                       r"ERROR: cannot launch node.*")
 
 
-def refusal(out_dir):
-    """The first line of the run's log that says why it could not start, or ""."""
+def log_lines(out_dir):
+    """The run's launch.log, line by line without colour codes ([] when there is none)."""
     try:
         with open(os.path.join(out_dir, "launch.log"), errors="replace") as f:
-            for line in f:
-                found = REFUSALS.search(re.sub(r"\x1b\[[0-9;]*m", "", line))
-                if found:
-                    return found.group(0).strip()[:400]
+            return [re.sub(r"\x1b\[[0-9;]*m", "", line) for line in f]
     except OSError:
-        pass
+        return []
+
+
+def refusal(out_dir):
+    """The first line of the run's log that says why it could not start, or ""."""
+    for line in log_lines(out_dir):
+        found = REFUSALS.search(line)
+        if found:
+            return found.group(0).strip()[:400]
     return ""
 
 
@@ -161,19 +166,11 @@ def describe(status):
 
 def eval_lines(run, campaign_dir, lines=12):
     """eval's closing lines of a run (its frame count and region errors), for the console."""
-    try:
-        with open(os.path.join(campaign_dir, run.key, "launch.log"), errors="replace") as f:
-            found = [re.sub(r"\x1b\[[0-9;]*m", "", line) for line in f
-                     if re.search(r"eval: (frame|region|wrote)", line)]
-    except OSError:
-        return ""
+    found = [line for line in log_lines(os.path.join(campaign_dir, run.key))
+             if re.search(r"eval: (frame|region|wrote)", line)]
     return "\n".join("  " + line[line.find("eval: "):].rstrip() for line in found[-lines:])
 
 
 def log_tail(run, campaign_dir, lines=15):
-    try:
-        with open(os.path.join(campaign_dir, run.key, "launch.log"), errors="replace") as f:
-            text = f.read().splitlines()[-lines:]
-    except OSError:
-        return ""
-    return "\n".join(re.sub(r"\x1b\[[0-9;]*m", "", line) for line in text)
+    tail = log_lines(os.path.join(campaign_dir, run.key))[-lines:]
+    return "\n".join(line.rstrip("\n") for line in tail)
