@@ -49,10 +49,10 @@ std::array<double, 6> ErrorComponents(const Eigen::Isometry3d& truth,
 
 }  // namespace
 
-Evaluator::FrameStatus Evaluator::AddFrame(int64_t stamp_ns) {
-  if (!frames_.empty() && stamp_ns <= frames_.back())
-    return stamp_ns < frames_.back() ? FrameStatus::kOlder : FrameStatus::kRepeat;
-  frames_.push_back(stamp_ns);
+Evaluator::FrameStatus Evaluator::AddFrame(int64_t stamp_ns, double now_s) {
+  if (!frames_.empty() && stamp_ns <= frames_.back().stamp_ns)
+    return stamp_ns < frames_.back().stamp_ns ? FrameStatus::kOlder : FrameStatus::kRepeat;
+  frames_.push_back({stamp_ns, now_s});
   return FrameStatus::kNew;
 }
 
@@ -62,65 +62,95 @@ bool Evaluator::AddEstimate(int64_t stamp_ns, const Estimate& estimate) {
   return true;
 }
 
-std::vector<SettledFrame> Evaluator::SettleReady(const TruthLookup& truth) {
-  const size_t grace = static_cast<size_t>(grace_frames_);
-  if (frames_.size() <= grace) return {};
-  return Settle(frames_[frames_.size() - grace], truth);
+bool Evaluator::AddOutcome(int64_t stamp_ns, const StageOutcome& outcome) {
+  if (settled_.count(stamp_ns)) return false;
+  outcomes_[stamp_ns].push_back(outcome);
+  return true;
+}
+
+bool Evaluator::Resolved(int64_t stamp_ns) const {
+  if (estimates_.count(stamp_ns)) return true;
+  const auto it = outcomes_.find(stamp_ns);
+  if (it == outcomes_.end()) return false;
+  for (const StageOutcome& o : it->second)
+    if (IsFinal(o)) return true;
+  return false;
+}
+
+std::vector<SettledFrame> Evaluator::SettleReady(double now_s, const TruthReady& ready,
+                                                 const TruthLookup& truth) {
+  std::vector<SettledFrame> out;
+  while (!frames_.empty()) {
+    const Announced& f = frames_.front();
+    const bool due = now_s - f.at_s >= settle_after_;
+    if (!due && !(Resolved(f.stamp_ns) && ready(f.stamp_ns))) break;
+    out.push_back(SettleFront(truth));
+  }
+  return out;
 }
 
 std::vector<SettledFrame> Evaluator::SettleAll(const TruthLookup& truth) {
-  return Settle(std::numeric_limits<int64_t>::max(), truth);
+  std::vector<SettledFrame> out;
+  while (!frames_.empty()) out.push_back(SettleFront(truth));
+  return out;
 }
 
-std::vector<SettledFrame> Evaluator::Settle(int64_t before_ns, const TruthLookup& truth) {
-  std::vector<SettledFrame> out;
-  while (!frames_.empty() && frames_.front() < before_ns) {
-    SettledFrame s;
-    s.stamp_ns = frames_.front();
-    frames_.pop_front();
-    settled_.insert(s.stamp_ns);
-    FrameRecord& f = s.record;
-    f.t = ToSec(s.stamp_ns) - stamp_offset_;
-    std::string error;
-    const std::optional<Eigen::Isometry3d> T_truth = truth(s.stamp_ns, &error);
-    if (!T_truth) {
-      s.no_truth = error.empty() ? "no truth" : error;
-      estimates_.erase(s.stamp_ns);
-      ++no_truth_;
-      out.push_back(s);
-      continue;
-    }
-    f.range_m = T_truth->translation().norm();
-    f.region = aar_geometry::RegionOfRange(f.range_m);
-    const auto it = estimates_.find(s.stamp_ns);
-    if (it != estimates_.end()) {
-      const Estimate& est = it->second;
-      if (est.valid) {  // else no pose: a miss
-        f.estimated = true;
-        f.error = ErrorComponents(*T_truth, est.T_tanker_receiver);
-        last_estimate_ = est.T_tanker_receiver;
-        f.converged = est.converged;
-        f.iterations = est.iterations;
-        f.rms = est.rms;
-        f.registration_ms = est.registration_ms;
-        f.nees = Nees(*T_truth, est);
-        position_sum_ += PositionError(f);
-        ++estimated_;
-      }
-      f.track = est.track;
-      estimates_.erase(it);
-    }
-    // A live system holds the last estimate through a miss.
-    f.published = last_estimate_.has_value();
-    if (f.estimated)
-      f.published_error = f.error;
-    else if (f.published)
-      f.published_error = ErrorComponents(*T_truth, *last_estimate_);
-    records_.push_back(f);
-    if (records_.size() % 10 == 1 || !f.estimated) s.progress = ProgressLine(f);
-    out.push_back(s);
+SettledFrame Evaluator::SettleFront(const TruthLookup& truth) {
+  SettledFrame s;
+  s.stamp_ns = frames_.front().stamp_ns;
+  frames_.pop_front();
+  settled_.insert(s.stamp_ns);
+  s.record.t = ToSec(s.stamp_ns) - stamp_offset_;
+  std::string error;
+  const std::optional<Eigen::Isometry3d> T_truth = truth(s.stamp_ns, &error);
+  if (!T_truth) {
+    s.no_truth = error.empty() ? "no truth" : error;
+    ++no_truth_;
   }
-  return out;
+  const auto estimate = estimates_.find(s.stamp_ns);
+  const auto reports = outcomes_.find(s.stamp_ns);
+  s.ledger = ClassifyFrame(
+      estimate != estimates_.end() ? &estimate->second : nullptr,
+      reports != outcomes_.end() ? reports->second : std::vector<StageOutcome>{}, s.no_truth);
+  s.ledger.stamp_ns = s.stamp_ns;
+  s.ledger.t = s.record.t;
+  ledger_.push_back(s.ledger);
+  if (T_truth) Score(*T_truth, s);
+  if (estimate != estimates_.end()) estimates_.erase(estimate);
+  // Reports on this frame and on any older, never announced one are done with.
+  outcomes_.erase(outcomes_.begin(), outcomes_.upper_bound(s.stamp_ns));
+  return s;
+}
+
+void Evaluator::Score(const Eigen::Isometry3d& T_truth, SettledFrame& s) {
+  FrameRecord& f = s.record;
+  f.range_m = T_truth.translation().norm();
+  f.region = aar_geometry::RegionOfRange(f.range_m);
+  const auto it = estimates_.find(s.stamp_ns);
+  if (it != estimates_.end()) {
+    const Estimate& est = it->second;
+    if (est.valid) {  // else no pose: a miss
+      f.estimated = true;
+      f.error = ErrorComponents(T_truth, est.T_tanker_receiver);
+      last_estimate_ = est.T_tanker_receiver;
+      f.converged = est.converged;
+      f.iterations = est.iterations;
+      f.rms = est.rms;
+      f.registration_ms = est.registration_ms;
+      f.nees = Nees(T_truth, est);
+      position_sum_ += PositionError(f);
+      ++estimated_;
+    }
+    f.track = est.track;
+  }
+  // A live system holds the last estimate through a miss.
+  f.published = last_estimate_.has_value();
+  if (f.estimated)
+    f.published_error = f.error;
+  else if (f.published)
+    f.published_error = ErrorComponents(T_truth, *last_estimate_);
+  records_.push_back(f);
+  if (records_.size() % 10 == 1 || !f.estimated) s.progress = ProgressLine(f);
 }
 
 std::string Evaluator::ProgressLine(const FrameRecord& f) const {

@@ -3,24 +3,56 @@
 #include <cstdlib>
 #include <fstream>
 #include <iterator>
+#include <mutex>
 #include <thread>
 
+#include <aar_msgs/FrameOutcome.h>
 #include <aar_msgs/PoseError.h>
 #include <aar_msgs/PoseEstimate.h>
 #include <aar_ros_common/rostest_main.h>
 #include <ros/ros.h>
+#include <rosgraph_msgs/Log.h>
 #include <sensor_msgs/CameraInfo.h>
 #include <tf2_ros/static_transform_broadcaster.h>
 
 #include "aar_eval/tables.h"
 
+aar_msgs::PoseEstimate EstimateAt(int k, double x) {
+  aar_msgs::PoseEstimate e;
+  e.header.stamp = ros::Time(k);
+  e.header.frame_id = "tanker";
+  e.pose.position.x = x;
+  e.pose.position.z = -10.0;
+  e.pose.orientation.w = 1.0;
+  e.converged = true;
+  e.valid = true;
+  return e;
+}
+
+std::string ReadText(const std::string& path) {
+  std::ifstream in(path);
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+// Frames 2..8: estimates for all but 4 and 8; stereo reports dropping 8 (stale). Another node
+// publishes an estimate 1 km off for frame 7 before the registration's (the test node, eval's
+// ~estimate_publisher): ignored and named. Each frame settles on its estimate, its drop, or
+// settle_after (1 s) after it came.
 TEST(Eval, FrameWithoutEstimateIsAMissNotACrash) {
   ros::NodeHandle nh;
   ros::Publisher frames = nh.advertise<sensor_msgs::CameraInfo>("/stereo/left/camera_info", 10);
   ros::Publisher estimates = nh.advertise<aar_msgs::PoseEstimate>("/aar/pose_estimate", 10);
+  ros::Publisher outcomes = nh.advertise<aar_msgs::FrameOutcome>("/aar/frame_outcome", 10);
   int errors = 0;
   ros::Subscriber error_sub = nh.subscribe<aar_msgs::PoseError>(
       "/aar/pose_error", 10, [&](const aar_msgs::PoseError::ConstPtr&) { ++errors; });
+  std::mutex mutex;
+  std::string warnings;
+  ros::Subscriber log_sub =
+      nh.subscribe<rosgraph_msgs::Log>("/rosout", 100, [&](const rosgraph_msgs::Log::ConstPtr& m) {
+        std::lock_guard<std::mutex> lock(mutex);
+        warnings += m->msg + "\n";
+      });
   tf2_ros::StaticTransformBroadcaster tf;
   geometry_msgs::TransformStamped truth;  // receiver 36 m aft and below: region C
   truth.header.frame_id = "tanker";
@@ -31,42 +63,58 @@ TEST(Eval, FrameWithoutEstimateIsAMissNotACrash) {
   tf.sendTransform(truth);
   const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(20.0);
   while (ros::WallTime::now() < deadline &&
-         (frames.getNumSubscribers() == 0 || estimates.getNumSubscribers() == 0)) {
+         (frames.getNumSubscribers() == 0 || estimates.getNumSubscribers() == 0 ||
+          outcomes.getNumSubscribers() == 0)) {
     ros::WallDuration(0.05).sleep();
   }
   ASSERT_GT(frames.getNumSubscribers(), 0u);
   ros::WallDuration(1.0).sleep();  // the truth transform reaches eval
 
-  // Frames at 2..7 s; estimates for all but frame 4 (0.1 m off in x). Frames older than the
-  // second-to-last settle: 2, 3, 4, 5.
-  for (int k = 2; k <= 7; ++k) {
+  for (int k = 2; k <= 8; ++k) {
+    if (k == 7) {  // takes seconds: before the frame, which would be due by then
+      ASSERT_EQ(std::system("rostopic pub -1 /aar/pose_estimate aar_msgs/PoseEstimate "
+                            "'{header: {stamp: {secs: 7}, frame_id: tanker}, valid: true, pose: "
+                            "{position: {x: 1000.0}, orientation: {w: 1.0}}}' __name:=intruder"),
+                0);
+    }
     sensor_msgs::CameraInfo info;
     info.header.stamp = ros::Time(k);
     frames.publish(info);
     ros::WallDuration(0.1).sleep();
-    if (k != 4) {
-      aar_msgs::PoseEstimate e;
-      e.header.stamp = info.header.stamp;
-      e.header.frame_id = "tanker";
-      e.pose.position.x = -34.4;
-      e.pose.position.z = -10.0;
-      e.pose.orientation.w = 1.0;
-      e.converged = true;
-      e.valid = true;
-      estimates.publish(e);
+    if (k == 8) {
+      aar_msgs::FrameOutcome drop;
+      drop.header.stamp = info.header.stamp;
+      drop.stage = "stereo";
+      drop.outcome = aar_msgs::FrameOutcome::DROPPED;
+      drop.reason = "stale";
+      drop.detail = "waited 0.3 s, more than max_frame_age";
+      outcomes.publish(drop);
+    } else if (k != 4) {
+      estimates.publish(EstimateAt(k, -34.4));
     }
     ros::WallDuration(0.2).sleep();
   }
-  ros::WallDuration(1.0).sleep();
+  ros::WallDuration(1.5).sleep();  // frame 4 settles 1 s after it came
   const auto records = aar_eval::ReadFrameCsv("/tmp/aar_eval_rostest/frames.csv");
-  ASSERT_EQ(records.size(), 4u);
+  ASSERT_EQ(records.size(), 7u);
   EXPECT_TRUE(records[0].estimated);
   EXPECT_FALSE(records[2].estimated) << "frame 4 had no estimate";
   EXPECT_NEAR(records[0].t, 1.0, 1e-9);  // stamp 2 s minus the 1 s stamp offset
   EXPECT_NEAR(records[0].error[0], 0.1,
               1e-9);  // estimate minus truth along the receiver's x: -34.4 - -34.5
   EXPECT_EQ(records[0].region, aar_geometry::Region::kC);
-  EXPECT_EQ(errors, 3);
+  EXPECT_NEAR(records[5].error[0], 0.1, 1e-9) << "the intruder's estimate was taken";
+  EXPECT_FALSE(records[6].estimated);
+  EXPECT_EQ(errors, 5);
+  const std::string ledger = ReadText("/tmp/aar_eval_rostest/ledger.csv");
+  EXPECT_NE(ledger.find("2.000000000,estimated,registration"), std::string::npos) << ledger;
+  EXPECT_NE(ledger.find("4.000000000,dropped,stereo,never_paired"), std::string::npos) << ledger;
+  EXPECT_NE(ledger.find("8.000000000,dropped,stereo,stale,\"waited 0.3 s"), std::string::npos)
+      << ledger;
+  std::lock_guard<std::mutex> lock(mutex);
+  EXPECT_NE(warnings.find("from /intruder, not from the registration (/eval_misses): ignored"),
+            std::string::npos)
+      << warnings;
 }
 
 // Frames still waiting when eval stops settle then; those without truth were once left out

@@ -48,30 +48,51 @@ TEST(Evaluator, NeesOfTheEstimateAgainstItsCovariance) {
   EXPECT_EQ(settled[1].record.track, "off");
 }
 
-TEST(Evaluator, LongerGraceKeepsLateEstimates) {
-  // Real time: estimates lag frames behind; with 5 frames of grace the 5th-newest still counts.
-  Evaluator eval(1.0, 0, 5);
-  for (int k = 2; k <= 6; ++k) eval.AddFrame(k * kSecond);
-  EXPECT_TRUE(eval.SettleReady(Truth).empty());
-  EXPECT_TRUE(eval.AddEstimate(2 * kSecond, At(-34.4)));  // four frames late: kept
-  eval.AddFrame(7 * kSecond);
-  const auto settled = eval.SettleReady(Truth);
-  ASSERT_EQ(settled.size(), 1u);
+bool Always(int64_t) { return true; }
+
+TEST(Evaluator, LateEstimatesCountUntilTheFrameIsDue) {
+  // A busy machine: estimates lag frames behind, by time, not by a count of frames.
+  Evaluator eval(1.0, 0, 10.0);
+  for (int k = 2; k <= 6; ++k) eval.AddFrame(k * kSecond, 0.1 * k);
+  EXPECT_TRUE(eval.SettleReady(5.0, Always, Truth).empty());  // none resolved, none due
+  EXPECT_TRUE(eval.AddEstimate(2 * kSecond, At(-34.4)));      // four frames late: kept
+  eval.AddFrame(7 * kSecond, 5.0);
+  auto settled = eval.SettleReady(5.0, Always, Truth);
+  ASSERT_EQ(settled.size(), 1u);  // frame 2 on its estimate; 3 waits (and 4 behind it)
   EXPECT_TRUE(settled[0].record.estimated);
+  EXPECT_EQ(settled[0].ledger.outcome, "estimated");
   EXPECT_FALSE(eval.AddEstimate(2 * kSecond, At(-34.4)));
+  EXPECT_TRUE(eval.AddEstimate(4 * kSecond, At(-34.4)));
+  settled = eval.SettleReady(10.35, Always, Truth);  // 3 due (announced at 0.3 s), then 4
+  ASSERT_EQ(settled.size(), 2u);
+  EXPECT_FALSE(settled[0].record.estimated);
+  EXPECT_EQ(settled[0].ledger.outcome, "dropped");
+  EXPECT_EQ(settled[0].ledger.reason, "never_paired");
+  EXPECT_TRUE(settled[1].record.estimated);
 }
 
-TEST(Evaluator, SettlesAllButTheNewestTwoFramesAndRecordsMisses) {
-  Evaluator eval(1.0, 6);
+// A frame settles on its estimate only once its truth is there; until it is due.
+TEST(Evaluator, AFrameWaitsForItsTruth) {
+  Evaluator eval(1.0, 0, 10.0);
+  eval.AddFrame(2 * kSecond, 0.0);
+  eval.AddEstimate(2 * kSecond, At(-34.4));
+  EXPECT_TRUE(eval.SettleReady(
+                      1.0, [](int64_t) { return false; }, Truth)
+                  .empty());
+  EXPECT_EQ(eval.SettleReady(1.0, Always, Truth).size(), 1u);
+}
+
+TEST(Evaluator, SettlesOnTheEstimateOrADropOrInTimeAndRecordsMisses) {
+  Evaluator eval(1.0, 6, 10.0);
   EXPECT_EQ(eval.AddFrame(2 * kSecond), Evaluator::FrameStatus::kNew);
   EXPECT_TRUE(eval.AddEstimate(2 * kSecond, At(-34.4)));
   EXPECT_EQ(eval.AddFrame(2 * kSecond), Evaluator::FrameStatus::kRepeat);
   EXPECT_EQ(eval.AddFrame(3 * kSecond), Evaluator::FrameStatus::kNew);
-  EXPECT_TRUE(eval.SettleReady(Truth).empty());  // two frames: both may still get estimates
   EXPECT_TRUE(eval.AddEstimate(3 * kSecond, At(0.0, false)));  // registration gave no pose
-  eval.AddFrame(4 * kSecond);                                  // never estimated
-  const auto first = eval.SettleReady(Truth);
-  ASSERT_EQ(first.size(), 1u);
+  eval.AddFrame(4 * kSecond);                                  // dropped by stereo, below
+  eval.AddFrame(5 * kSecond);                                  // lost in occlusion's queue
+  const auto first = eval.SettleReady(1.0, Always, Truth);
+  ASSERT_EQ(first.size(), 2u);  // 2 and 3: their estimates came
   EXPECT_EQ(first[0].stamp_ns, 2 * kSecond);
   EXPECT_TRUE(first[0].record.estimated);
   EXPECT_NEAR(first[0].record.t, 1.0, 1e-12);  // stamp minus the stamp offset
@@ -80,27 +101,71 @@ TEST(Evaluator, SettlesAllButTheNewestTwoFramesAndRecordsMisses) {
   EXPECT_EQ(first[0].record.region, aar_geometry::Region::kC);
   EXPECT_EQ(first[0].progress.rfind("eval: frame 1 of 6, 35.9 m (region C): error 0.100 m", 0), 0u)
       << first[0].progress;
-
+  EXPECT_EQ(first[1].ledger.outcome, "no_pose");
   EXPECT_FALSE(eval.AddEstimate(2 * kSecond, At(-34.4)));  // its frame is settled: too late
   EXPECT_EQ(eval.AddFrame(1 * kSecond), Evaluator::FrameStatus::kOlder);
-  eval.AddFrame(5 * kSecond);
+
+  EXPECT_TRUE(eval.AddOutcome(4 * kSecond, {"stereo", true, "stale", "waited 0.3 s"}));
+  const auto dropped = eval.SettleReady(1.0, Always, Truth);  // 4 on its drop; 5 not yet due
+  ASSERT_EQ(dropped.size(), 1u);
+  EXPECT_FALSE(dropped[0].record.estimated);
+  EXPECT_NE(dropped[0].progress.find("MISSED"), std::string::npos) << dropped[0].progress;
+  EXPECT_EQ(dropped[0].ledger.stage, "stereo");
+  EXPECT_EQ(dropped[0].ledger.reason, "stale");
+  // The misses publish the last estimate again: its error against their truth.
+  EXPECT_TRUE(dropped[0].record.published);
+  EXPECT_NEAR(dropped[0].record.published_error[0], 0.1, 1e-9);
+
+  eval.AddOutcome(5 * kSecond, {"stereo", false, "", ""});
   eval.AddFrame(6 * kSecond);
   eval.AddEstimate(99 * kSecond, At(-34.4));  // a frame never announced
   const auto rest = eval.SettleAll(Truth);
-  ASSERT_EQ(rest.size(), 4u);  // 3, 4, 5, 6
-  EXPECT_FALSE(rest[0].record.estimated);
-  EXPECT_NE(rest[0].progress.find("MISSED"), std::string::npos) << rest[0].progress;
-  EXPECT_FALSE(rest[1].record.estimated);
-  // The misses publish the last estimate again: its error against their truth.
-  EXPECT_TRUE(first[0].record.published);
-  for (int k : {0, 1}) {
-    EXPECT_TRUE(rest[k].record.published);
-    EXPECT_NEAR(rest[k].record.published_error[0], 0.1, 1e-9);
-  }
-  EXPECT_EQ(rest[3].no_truth, "extrapolation into the future");
+  ASSERT_EQ(rest.size(), 2u);  // 5, 6
+  EXPECT_EQ(rest[0].ledger.stage, "occlusion");
+  EXPECT_EQ(rest[0].ledger.reason, "queue");
+  EXPECT_EQ(rest[1].no_truth, "extrapolation into the future");
+  EXPECT_EQ(rest[1].ledger.stage, "eval");
+  EXPECT_EQ(rest[1].ledger.reason, "no_truth");
   EXPECT_EQ(eval.records().size(), 4u);  // 2, 3, 4, 5: frame 6 had no truth
+  EXPECT_EQ(eval.ledger().size(), 5u);   // every frame, 6 too
   EXPECT_EQ(eval.frames_without_truth(), 1);
   EXPECT_EQ(eval.estimates_without_frame(), 1u);
+  EXPECT_EQ(LedgerSummary(eval.ledger()),
+            "5 frames: 1 estimated, 0 coasted, 0 lost, 1 no pose, 3 dropped (eval no_truth 1, "
+            "occlusion queue 1, stereo stale 1)");
+}
+
+// Every frame gets exactly one outcome: from its estimate, else the first drop, else where it
+// was last seen.
+TEST(Ledger, EachFrameHasOneOutcomeNamingTheStageAndReason) {
+  Estimate coasting = At(-34.4);
+  coasting.track = "rejected";
+  EXPECT_EQ(ClassifyFrame(&coasting, {}, "").outcome, "coasted");
+  Estimate lost = At(0.0, false);
+  lost.track = "lost";
+  EXPECT_EQ(ClassifyFrame(&lost, {}, "").outcome, "lost");
+  const Estimate none = At(0.0, false);
+  const LedgerEntry no_pose =
+      ClassifyFrame(&none, {{"registration", true, "no_pose", "no reference model yet"}}, "");
+  EXPECT_EQ(no_pose.outcome, "no_pose");
+  EXPECT_EQ(no_pose.detail, "no reference model yet");
+  const LedgerEntry superseded = ClassifyFrame(
+      nullptr, {{"stereo", false, "", ""}, {"occlusion", true, "superseded", "newer"}}, "");
+  EXPECT_EQ(superseded.stage, "occlusion");
+  EXPECT_EQ(superseded.reason, "superseded");
+  const LedgerEntry after_registration = ClassifyFrame(
+      nullptr,
+      {{"stereo", false, "", ""}, {"occlusion", false, "", ""}, {"registration", false, "", ""}},
+      "");
+  EXPECT_EQ(after_registration.stage, "eval");
+  EXPECT_EQ(after_registration.reason, "queue");
+  // A registration drop comes with its estimate: it does not settle the frame alone.
+  EXPECT_FALSE(IsFinal({"registration", true, "no_pose", ""}));
+  EXPECT_TRUE(IsFinal({"stereo", true, "sync_mismatch", ""}));
+  EXPECT_FALSE(IsFinal({"stereo", false, "", ""}));
+  LedgerEntry row{1500000000, 0.5, "dropped", "stereo", "sync_mismatch", "a \"quoted\", b"};
+  EXPECT_EQ(LedgerCsvRow(row),
+            "0.5,1.500000000,dropped,stereo,sync_mismatch,\"a \"\"quoted\"\", b\"");
 }
 
 // Before the first estimate nothing is published; a held estimate is scored against the truth

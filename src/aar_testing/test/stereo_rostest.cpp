@@ -7,6 +7,7 @@
 #include <regex>
 #include <sstream>
 
+#include <aar_msgs/FrameOutcome.h>
 #include <aar_msgs/PoseEstimate.h>
 #include <ros/ros.h>
 #include <rosgraph_msgs/Log.h>
@@ -375,6 +376,49 @@ TEST(Stamps, PairsThatComeLateAreDroppedAndNamed) {
   EXPECT_EQ(f.points.by_stamp.count(late), 0u) << "a late pair gave a cloud";
   for (int k = 0; k <= 4; ++k)
     EXPECT_EQ(f.points.by_stamp.count(t0 + d * k), 1u) << "no cloud for the pair in order " << k;
+}
+
+// A pair stamped 1000 s ahead of the clock would be the last one taken, and every pair after it
+// "out of order" until the clock passed it: dropped, named (max_stamp_lead 1 s), and the pairs
+// after it give clouds. Halves whose partners never come (a left image and camera info alone)
+// are dropped by the synchroniser: each is named and counted (sync_mismatch). Every frame sent
+// has one outcome on /aar/frame_outcome.
+TEST(Stamps, APairFarAheadIsDroppedAndHalvesThatNeverPairAreNamed) {
+  BadInputFixture f("/exact", rosgraph_msgs::Log::WARN);
+  Collector<aar_msgs::FrameOutcome> outcomes(f.nh, "/aar/frame_outcome", 100);
+  ASSERT_NO_FATAL_FAILURE(WaitConnected(f));
+  const ros::Time t0 = ros::Time::now();
+  const ros::Duration d(0.1);
+  const ros::Time ahead = t0 + ros::Duration(1000.0), half = t0 + d * 3;
+  for (const ros::Time& stamp : {t0, ahead, t0 + d, t0 + d * 2}) {
+    f.Publish(GoodPair(stamp));
+    ros::WallDuration(0.3).sleep();
+  }
+  const Pair lonely = GoodPair(half);
+  f.left.publish(lonely.left);
+  f.left_info.publish(lonely.left_info);
+  for (const ros::Time& stamp : {t0 + d * 4, t0 + d * 5}) {
+    ros::WallDuration(0.3).sleep();
+    f.Publish(GoodPair(stamp));
+  }
+  aar_testing::WaitFor([&] { return outcomes.size() >= 7; }, 10.0);
+  EXPECT_TRUE(f.errors.Wait("dropped: stamp " + Str(ahead) + " is ", 5.0));
+  EXPECT_TRUE(f.errors.Wait("s ahead of the clock", 5.0));
+  EXPECT_TRUE(f.errors.Wait("dropped: left image, left camera info came, no right image, right "
+                            "camera info with its stamp (exact sync)",
+                            5.0));
+  std::lock_guard<std::mutex> lock(f.points.mutex), outcome_lock(outcomes.mutex);
+  EXPECT_EQ(f.points.by_stamp.count(ahead), 0u) << "a pair 1000 s ahead gave a cloud";
+  for (int k : {0, 1, 2, 4, 5}) {
+    EXPECT_EQ(f.points.by_stamp.count(t0 + d * k), 1u) << "no cloud for pair " << k;
+    ASSERT_EQ(outcomes.by_stamp.count(t0 + d * k), 1u) << "no outcome for pair " << k;
+    EXPECT_EQ(outcomes.by_stamp[t0 + d * k]->outcome, aar_msgs::FrameOutcome::PASSED);
+  }
+  ASSERT_EQ(outcomes.by_stamp.count(ahead), 1u);
+  EXPECT_EQ(outcomes.by_stamp[ahead]->reason, "ahead");
+  ASSERT_EQ(outcomes.by_stamp.count(half), 1u) << "the half pair has no outcome";
+  EXPECT_EQ(outcomes.by_stamp[half]->reason, "sync_mismatch");
+  EXPECT_EQ(outcomes.by_stamp[half]->stage, "stereo");
 }
 
 // One camera lagging 50 ms (its image and camera info): approximate sync pairs halves taken

@@ -11,6 +11,7 @@
 
 #include <Eigen/Geometry>
 
+#include "aar_eval/ledger.h"
 #include "aar_eval/tables.h"
 
 namespace aar_eval {
@@ -34,6 +35,7 @@ struct SettledFrame {
   int64_t stamp_ns = 0;
   FrameRecord record;    // estimated or missed
   std::string no_truth;  // set when truth was missing: the frame is left out of the records
+  LedgerEntry ledger;    // its one outcome in the frame ledger
   // "eval: frame k of N, 50.0 m (region B): error 0.123 m; running mean ..." for every tenth
   // frame and every miss; empty for the others.
   std::string progress;
@@ -43,47 +45,64 @@ struct SettledFrame {
 using TruthLookup =
     std::function<std::optional<Eigen::Isometry3d>(int64_t stamp_ns, std::string* error)>;
 
+// Whether the truth at a stamp has arrived (a frame waits for it before it settles).
+using TruthReady = std::function<bool(int64_t stamp_ns)>;
+
 // Pairs each announced frame with its estimate and the truth, and decides when a frame is
-// settled: an estimate that has not come when a later frame is settled is a miss. Lockstep
-// publishes a frame only after the estimate of the one before (or a timeout); one frame of
-// grace covers message ordering. ROS-free; not thread-safe.
+// settled: when its estimate came or a stage reported dropping it (and its truth is there), or,
+// failing both, `settle_after` seconds after it was announced: then it is a miss, and the stages'
+// reports say where it was lost (the frame ledger). Frames settle in stamp order. Time, not a
+// count of later frames: a busy machine delays estimates without losing them. ROS-free; not
+// thread-safe.
 class Evaluator {
  public:
   // `stamp_offset` [s]: the simulator's stamp = offset + path time. `expected_frames`: N in the
-  // progress lines (0: unknown).
-  // `grace_frames`: a frame is settled once this many newer ones were announced (2 in lockstep;
-  // in real time, estimates lag several frames).
-  explicit Evaluator(double stamp_offset = 1.0, int expected_frames = 0, int grace_frames = 2)
+  // progress lines (0: unknown). `settle_after` [s, the clock of `now_s`]: the longest a frame
+  // waits for its estimate.
+  explicit Evaluator(double stamp_offset = 1.0, int expected_frames = 0, double settle_after = 10.0)
       : stamp_offset_(stamp_offset),
         expected_frames_(expected_frames),
-        grace_frames_(grace_frames < 1 ? 1 : grace_frames) {}
+        settle_after_(settle_after) {}
 
   enum class FrameStatus { kNew, kRepeat, kOlder };
-  // A frame was announced (its camera info). kOlder frames are ignored (the clock jumped).
-  FrameStatus AddFrame(int64_t stamp_ns);
+  // A frame was announced (its camera info) at `now_s`. kOlder frames are ignored (the clock
+  // jumped).
+  FrameStatus AddFrame(int64_t stamp_ns, double now_s = 0.0);
   // False when its frame is already settled (the estimate came too late and is ignored).
   bool AddEstimate(int64_t stamp_ns, const Estimate& estimate);
+  // A stage's report on a frame; false when the frame is already settled.
+  bool AddOutcome(int64_t stamp_ns, const StageOutcome& outcome);
 
-  // The frames that are settled now: all but the newest `grace_frames` announced ones.
-  std::vector<SettledFrame> SettleReady(const TruthLookup& truth);
+  // The frames that are settled at `now_s`, in stamp order.
+  std::vector<SettledFrame> SettleReady(double now_s, const TruthReady& ready,
+                                        const TruthLookup& truth);
   // Every frame announced so far (the run is over: what has no estimate now is a miss).
   std::vector<SettledFrame> SettleAll(const TruthLookup& truth);
 
   const std::vector<FrameRecord>& records() const { return records_; }
-  int64_t newest_frame_ns() const { return frames_.empty() ? 0 : frames_.back(); }
+  const std::vector<LedgerEntry>& ledger() const { return ledger_; }
+  int64_t newest_frame_ns() const { return frames_.empty() ? 0 : frames_.back().stamp_ns; }
   size_t estimates_without_frame() const { return estimates_.size(); }
   int frames_without_truth() const { return no_truth_; }
 
  private:
-  std::vector<SettledFrame> Settle(int64_t before_ns, const TruthLookup& truth);
+  struct Announced {
+    int64_t stamp_ns;
+    double at_s;  // when it was announced
+  };
+  bool Resolved(int64_t stamp_ns) const;  // its estimate or a stage's final drop came
+  SettledFrame SettleFront(const TruthLookup& truth);
+  void Score(const Eigen::Isometry3d& T_truth, SettledFrame& s);
   std::string ProgressLine(const FrameRecord& frame) const;  // of the newest record
 
   double stamp_offset_;
   int expected_frames_;
-  int grace_frames_;
-  std::deque<int64_t> frames_;  // announced, not yet settled
+  double settle_after_;
+  std::deque<Announced> frames_;  // announced, not yet settled
   std::set<int64_t> settled_;
   std::map<int64_t, Estimate> estimates_;
+  std::map<int64_t, std::vector<StageOutcome>> outcomes_;  // the stages' reports per frame
+  std::vector<LedgerEntry> ledger_;
   std::vector<FrameRecord> records_;
   int no_truth_ = 0;
   std::optional<Eigen::Isometry3d> last_estimate_;  // T_tanker_receiver, held through misses

@@ -1,36 +1,78 @@
 #include "aar_eval/ros/eval_node.h"
 
+#include <cerrno>
+#include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <iostream>
 #include <sstream>
 
 #include <aar_msgs/PoseError.h>
+#include <aar_ros_common/frame_ledger.h>
 #include <aar_ros_common/tf_bridge.h>
 
 #include "aar_eval/ros/conversions.h"
 
 namespace aar_eval {
+namespace {
+
+double WallNow() { return ros::WallTime::now().toSec(); }
+
+bool Finite(const aar_msgs::PoseEstimate& e) {
+  const auto& p = e.pose.position;
+  const auto& q = e.pose.orientation;
+  for (double v : {p.x, p.y, p.z, q.x, q.y, q.z, q.w})
+    if (!std::isfinite(v)) return false;
+  return true;
+}
+
+}  // namespace
 
 EvalNode::EvalNode(ros::NodeHandle nh, const EvalNodeOptions& options)
     : nh_(nh),
       options_(options),
       tf_(ros::Duration(120.0)),
       listener_(tf_),
-      evaluator_(options.stamp_offset, options.expected_frames, options.grace_frames) {
+      evaluator_(options.stamp_offset, options.expected_frames, options.settle_after),
+      publisher_(options.estimate_publisher) {
   std::filesystem::create_directories(options_.output_dir);
   path_ = options_.output_dir + "/frames.csv";
+  ledger_path_ = options_.output_dir + "/ledger.csv";
   out_.open(path_);
   if (!out_) throw std::runtime_error(path_ + ": cannot be written");
-  out_ << FrameCsvHeader() << "\n" << std::flush;
+  ledger_out_.open(ledger_path_);
+  if (!ledger_out_) throw std::runtime_error(ledger_path_ + ": cannot be written");
+  Write(out_, path_, FrameCsvHeader());
+  Write(ledger_out_, ledger_path_, LedgerCsvHeader());
+  if (write_failed_) throw std::runtime_error(path_ + ": the first line could not be written");
   error_pub_ = nh_.advertise<aar_msgs::PoseError>("aar/pose_error", 10);
   // Long queues: a frame dropped here would have neither a row nor a log line (small messages).
   frame_sub_ = nh_.subscribe("stereo/left/camera_info", 100, &EvalNode::OnFrame, this);
   estimate_sub_ = nh_.subscribe("aar/pose_estimate", 100, &EvalNode::OnEstimate, this);
+  outcome_sub_ =
+      nh_.subscribe(aar_ros_common::kFrameOutcomeTopic, 1000, &EvalNode::OnOutcome, this);
+  tf_sub_ = nh_.subscribe("/tf", 1000, &EvalNode::OnTf, this);
+  // A static truth (a test's) holds at every stamp: no outage to guard against.
+  tf_static_sub_ = nh_.subscribe<tf2_msgs::TFMessage>(
+      "/tf_static", 100, [this](const tf2_msgs::TFMessage::ConstPtr& tf) {
+        std::lock_guard<std::mutex> lock(truth_mutex_);
+        for (const auto& t : tf->transforms)
+          truth_static_ |= t.child_frame_id == options_.truth_frame;
+      });
+  // Frames whose estimate never comes settle on time, also when nothing else arrives.
+  settle_timer_ = nh_.createWallTimer(ros::WallDuration(0.5), [this](const ros::WallTimerEvent&) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    Settle();
+  });
 }
 
 EvalNode::~EvalNode() {
+  settle_timer_.stop();
   frame_sub_.shutdown();
   estimate_sub_.shutdown();
+  outcome_sub_.shutdown();
+  tf_sub_.shutdown();
+  tf_static_sub_.shutdown();
   std::lock_guard<std::mutex> lock(mutex_);
   stopping_ = true;
   // The run is over: what has no estimate now is a miss.
@@ -50,19 +92,56 @@ EvalNode::~EvalNode() {
     std::cout << "eval: " << evaluator_.frames_without_truth()
               << " frames had no truth and were left out\n";
   }
-  std::cout << "eval: wrote " << evaluator_.records().size() << " frames to " << path_ << std::endl;
+  for (const auto& [caller, n] : other_publishers_)
+    std::cout << "eval: ignored " << n << " estimates from " << caller << " (not " << publisher_
+              << ")\n";
+  std::cout << "eval: ledger: " << LedgerSummary(evaluator_.ledger()) << " (" << ledger_path_
+            << ")\n";
+  std::cout << "eval: wrote " << evaluator_.records().size() << " frames to " << path_
+            << (write_failed_ ? " (INCOMPLETE: a write failed)" : "") << std::endl;
 }
 
-std::optional<Eigen::Isometry3d> EvalNode::Truth(int64_t stamp_ns, std::string* error) const {
-  // No wait: a frame settles after later frames came, and their truth with them.
+// Truth only from a sample close to the frame: tf2 would interpolate across an outage.
+std::optional<Eigen::Isometry3d> EvalNode::Truth(int64_t stamp_ns, std::string* error) {
+  {
+    std::lock_guard<std::mutex> lock(truth_mutex_);
+    const int64_t tolerance = static_cast<int64_t>(options_.truth_tolerance * 1e9);
+    const auto near = truth_stamps_.lower_bound(stamp_ns - tolerance);
+    if (!truth_static_ && (near == truth_stamps_.end() || *near > stamp_ns + tolerance)) {
+      std::ostringstream s;
+      s << "no truth sample within truth_tolerance (" << options_.truth_tolerance
+        << " s) of the frame: truth is not interpolated across a gap";
+      *error = s.str();
+      return std::nullopt;
+    }
+  }
   return aar_ros_common::LookupTransform(tf_, options_.tanker_frame, options_.truth_frame,
                                          ToRosTime(stamp_ns), 0.0, "the frame's stamp", error);
+}
+
+bool EvalNode::TruthReady(int64_t stamp_ns) {
+  {
+    std::lock_guard<std::mutex> lock(truth_mutex_);
+    const int64_t tolerance = static_cast<int64_t>(options_.truth_tolerance * 1e9);
+    if (!truth_static_ && (truth_stamps_.empty() || *truth_stamps_.rbegin() < stamp_ns - tolerance))
+      return false;
+  }
+  return tf_.canTransform(options_.tanker_frame, options_.truth_frame, ToRosTime(stamp_ns));
+}
+
+void EvalNode::OnTf(const tf2_msgs::TFMessage::ConstPtr& tf) {
+  std::lock_guard<std::mutex> lock(truth_mutex_);
+  for (const auto& t : tf->transforms)
+    if (t.child_frame_id == options_.truth_frame) truth_stamps_.insert(ToNs(t.header.stamp));
+  // Kept for two minutes of stamps before the newest, as the tf buffer keeps them.
+  while (!truth_stamps_.empty() && *truth_stamps_.begin() < *truth_stamps_.rbegin() - 120000000000)
+    truth_stamps_.erase(truth_stamps_.begin());
 }
 
 void EvalNode::OnFrame(const sensor_msgs::CameraInfo::ConstPtr& info) {
   std::lock_guard<std::mutex> lock(mutex_);
   const int64_t newest = evaluator_.newest_frame_ns();
-  switch (evaluator_.AddFrame(ToNs(info->header.stamp))) {
+  switch (evaluator_.AddFrame(ToNs(info->header.stamp), WallNow())) {
     case Evaluator::FrameStatus::kOlder:
       ROS_WARN_STREAM("eval: frame " << info->header.stamp << " is older than the last one ("
                                      << ToRosTime(newest) << "): ignored; did the clock jump?");
@@ -72,12 +151,36 @@ void EvalNode::OnFrame(const sensor_msgs::CameraInfo::ConstPtr& info) {
     case Evaluator::FrameStatus::kNew:
       break;
   }
-  Record(evaluator_.SettleReady(
-      [this](int64_t stamp_ns, std::string* error) { return Truth(stamp_ns, error); }));
+  Settle();
 }
 
-void EvalNode::OnEstimate(const aar_msgs::PoseEstimate::ConstPtr& estimate) {
+bool EvalNode::FromExpectedPublisher(const std::string& publisher, const ros::Time& stamp) {
+  if (publisher_.empty()) {
+    publisher_ = publisher;
+    ROS_INFO_STREAM("eval: taking estimates from " << publisher_
+                                                   << " (the first publisher heard; set "
+                                                      "~estimate_publisher to name it)");
+  }
+  if (publisher == publisher_) return true;
+  if (other_publishers_[publisher]++ == 0 || other_publishers_[publisher] % 100 == 0) {
+    ROS_WARN_STREAM("eval: an estimate for " << stamp << " from " << publisher
+                                             << ", not from the registration (" << publisher_
+                                             << "): ignored (" << other_publishers_[publisher]
+                                             << " from it so far)");
+  }
+  return false;
+}
+
+void EvalNode::OnEstimate(const ros::MessageEvent<aar_msgs::PoseEstimate const>& event) {
+  const aar_msgs::PoseEstimate::ConstPtr& estimate = event.getConstMessage();
   std::lock_guard<std::mutex> lock(mutex_);
+  if (!FromExpectedPublisher(event.getPublisherName(), estimate->header.stamp)) return;
+  if (estimate->valid && !Finite(*estimate)) {
+    ROS_ERROR_STREAM("eval: estimate for " << estimate->header.stamp << " from "
+                                           << event.getPublisherName()
+                                           << " has a pose that is not finite: ignored");
+    return;
+  }
   const int64_t stamp = ToNs(estimate->header.stamp);
   if (!evaluator_.AddEstimate(stamp, ToEstimate(*estimate))) {
     ROS_WARN_STREAM("eval: estimate for " << estimate->header.stamp
@@ -85,10 +188,41 @@ void EvalNode::OnEstimate(const aar_msgs::PoseEstimate::ConstPtr& estimate) {
     return;
   }
   estimate_headers_[stamp] = estimate->header;
+  Settle();
+}
+
+void EvalNode::OnOutcome(const aar_msgs::FrameOutcome::ConstPtr& msg) {
+  StageOutcome o;
+  o.stage = msg->stage;
+  o.dropped = msg->outcome == aar_msgs::FrameOutcome::DROPPED;
+  o.reason = msg->reason;
+  o.detail = msg->detail;
+  std::lock_guard<std::mutex> lock(mutex_);
+  evaluator_.AddOutcome(ToNs(msg->header.stamp), o);
+  Settle();
+}
+
+void EvalNode::Settle() {
+  Record(evaluator_.SettleReady(
+      WallNow(), [this](int64_t stamp_ns) { return TruthReady(stamp_ns); },
+      [this](int64_t stamp_ns, std::string* error) { return Truth(stamp_ns, error); }));
+}
+
+// A results file that cannot be written ends the node: a run must not pass with rows missing.
+void EvalNode::Write(std::ofstream& out, const std::string& path, const std::string& line) {
+  out << line << "\n" << std::flush;
+  if (out || write_failed_) return;
+  write_failed_ = true;
+  const std::string what = "eval: cannot write " + path + " (" + std::strerror(errno) +
+                           "): stopping, the results would be incomplete";
+  std::cerr << what << std::endl;
+  ROS_FATAL_STREAM(what);
+  ros::requestShutdown();
 }
 
 void EvalNode::Record(const std::vector<SettledFrame>& settled) {
   for (const SettledFrame& s : settled) {
+    Write(ledger_out_, ledger_path_, LedgerCsvRow(s.ledger));
     const auto header = estimate_headers_.find(s.stamp_ns);
     std_msgs::Header estimate_header;
     if (header != estimate_headers_.end()) {
@@ -106,9 +240,16 @@ void EvalNode::Record(const std::vector<SettledFrame>& settled) {
         ROS_ERROR_STREAM(line.str());
       continue;
     }
+    if (s.ledger.outcome == "dropped" && !stopping_) {
+      const std::string where = s.ledger.stage + " (" + s.ledger.reason + ")";
+      const uint64_t n = ++drops_[where];
+      if (drop_log_.ShouldLog(where))
+        ROS_WARN_STREAM("eval: frame " << ToRosTime(s.stamp_ns) << " dropped by " << where << ": "
+                                       << s.ledger.detail << " (" << n << " so far)");
+    }
     const FrameRecord& f = s.record;
     if (f.estimated) error_pub_.publish(ToPoseErrorMsg(f, estimate_header));
-    out_ << FrameCsvRow(f) << "\n" << std::flush;
+    Write(out_, path_, FrameCsvRow(f));
     if (!s.progress.empty()) ROS_INFO_STREAM(s.progress);
   }
 }

@@ -18,8 +18,9 @@ EvalNodeOptions LoadEvalNodeOptions(aar_ros_common::ParamReader& params) {
   const double sim_offset = params.Get("/sim/stamp_offset", o.stamp_offset);
   o.stamp_offset = params.Get("stamp_offset", sim_offset);
   o.expected_frames = params.Get("expected_frames", o.expected_frames);
-  o.grace_frames = params.Get("grace_frames", o.grace_frames);
-  params.Check(o.grace_frames >= 1, "grace_frames", "must be at least 1");
+  o.settle_after = params.GetPositive("settle_after", o.settle_after);
+  o.estimate_publisher = params.Get("estimate_publisher", o.estimate_publisher);
+  o.truth_tolerance = params.GetNonNegative("truth_tolerance", o.truth_tolerance);
   o.truth_frame = params.Get("truth_frame", o.truth_frame);
   o.tanker_frame = params.Get("tanker_frame", o.tanker_frame);
   params.RejectUnknown();

@@ -17,7 +17,11 @@ namespace aar_occlusion {
 
 OcclusionNode::OcclusionNode(ros::NodeHandle nh, ros::NodeHandle private_nh,
                              const OcclusionNodeOptions& options)
-    : nh_(nh), options_(options), tf_listener_(tf_buffer_), diagnostics_(nh, private_nh) {
+    : nh_(nh),
+      options_(options),
+      tf_listener_(tf_buffer_),
+      diagnostics_(nh, private_nh),
+      ledger_(nh, "occlusion") {
   // The boom: a refused model is reported and every frame passes through unculled.
   std::optional<aar_geometry::RobotModel> boom;
   std::string boom_error;
@@ -111,8 +115,12 @@ void OcclusionNode::OnCloud(const sensor_msgs::PointCloud2::ConstPtr& msg) {
     Cull(msg);
     return;
   }
-  if (stage_->Put(msg)) {
+  std::optional<sensor_msgs::PointCloud2::ConstPtr> replaced;
+  if (stage_->Put(msg, &replaced)) {
     ++superseded_;
+    if (replaced)
+      ledger_.Dropped((*replaced)->header.stamp, "superseded",
+                      "a newer cloud came while it waited for culling");
     ROS_WARN_STREAM_THROTTLE(5.0,
                              "occlusion: a cloud arrived while the previous one still waited "
                              "for culling: the older one skipped, the newest wins ("
@@ -191,6 +199,7 @@ void OcclusionNode::Cull(const sensor_msgs::PointCloud2::ConstPtr& msg) {
   previous_stamp_ = msg->header.stamp;
 
   filtered_pub_.publish(filtered);
+  ledger_.Passed(msg->header.stamp);  // culled, or passed through unculled (named above)
   // Shared pointers: nodelets in the same manager receive the message without a copy.
   const size_t boom_count = boom_points.width;
   boom_pub_.publish(boost::make_shared<sensor_msgs::PointCloud2>(std::move(boom_points)));
@@ -225,6 +234,7 @@ void OcclusionNode::Diagnose(diagnostic_updater::DiagnosticStatusWrapper& status
   status.add("clouds superseded by a newer cloud (skipped while culling)",
              static_cast<uint64_t>(superseded_));
   status.add("frames without a reference", reference_failures_);
+  for (const auto& [key, n] : ledger_.Counts()) status.add("ledger: " + key, n);
   status.add("cull method", ToString(options_.step.cull));
   status.add("boom points removed (last frame)", last_boom_points_);
   if (options_.step.cull_propellers)

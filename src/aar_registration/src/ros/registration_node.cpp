@@ -26,7 +26,8 @@ RegistrationNode::RegistrationNode(ros::NodeHandle nh, ros::NodeHandle private_n
       options_(options),
       tf_listener_(tf_buffer_),
       registrar_(options.registrar),
-      diagnostics_(nh, private_nh) {
+      diagnostics_(nh, private_nh),
+      ledger_(nh, "registration") {
   diagnostics_.setHardwareID("registration");
   diagnostics_.add("registration", this, &RegistrationNode::Diagnose);
   diagnostics_timer_ =
@@ -189,8 +190,12 @@ void RegistrationNode::Hand(Input input) {
     Process(input);
     return;
   }
-  if (stage_->Put(std::move(input))) {
+  std::optional<Input> replaced;
+  if (stage_->Put(std::move(input), &replaced)) {
     ++superseded_;
+    if (replaced)
+      ledger_.Dropped(replaced->points->header.stamp, "superseded",
+                      "a newer cloud came while it waited for registration");
     ROS_WARN_STREAM_THROTTLE(5.0,
                              "registration: a cloud arrived while the previous one still waited "
                              "for registration: the older one skipped, the newest wins ("
@@ -233,6 +238,7 @@ void RegistrationNode::Register(const sensor_msgs::PointCloud2::ConstPtr& msg) {
       !late.empty()) {
     const std::string what =
         "registration: cloud on " + nh_.resolveName("points") + " dropped, no estimate: " + late;
+    ledger_.Dropped(msg->header.stamp, "out_of_order", late);
     if (errors_.ShouldLog(what))
       ROS_WARN_STREAM(what << " (" << order_.dropped() << " dropped so far)");
     return;
@@ -344,6 +350,10 @@ void RegistrationNode::Publish(const RegistrarResult& result, const ros::Time& s
     pose_pub_.publish(pose);
   }
   estimate_pub_.publish(estimate);
+  if (result.valid)
+    ledger_.Passed(stamp);
+  else  // the estimate says "no pose"; the ledger says why
+    ledger_.Dropped(stamp, "no_pose", result.error.empty() ? "no registration" : result.error);
 }
 
 void RegistrationNode::Diagnose(diagnostic_updater::DiagnosticStatusWrapper& status) {
@@ -351,6 +361,7 @@ void RegistrationNode::Diagnose(diagnostic_updater::DiagnosticStatusWrapper& sta
   status.add("frames", frames_);
   status.add("frames estimated", estimates_);
   status.add("clouds dropped as out of order", order_.dropped());
+  for (const auto& [key, n] : ledger_.Counts()) status.add("ledger: " + key, n);
   status.add("clouds superseded by a newer cloud (skipped while registering)",
              static_cast<uint64_t>(superseded_));
   status.add("tracking", options_.registrar.track);

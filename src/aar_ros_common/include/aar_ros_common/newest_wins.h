@@ -31,17 +31,20 @@ class NewestWins {
   NewestWins& operator=(const NewestWins&) = delete;
 
   // Hands `item` to the worker. Returns true if it replaced a waiting item (superseded).
-  bool Put(T item) {
-    bool replaced = false;
+  bool Put(T item) { return Put(std::move(item), nullptr); }
+  // The same; the item it replaced, if any, is moved to `*replaced` (for the frame ledger).
+  bool Put(T item, std::optional<T>* replaced) {
+    bool was_waiting = false;
     {
       std::lock_guard<std::mutex> lock(mutex_);
       if (stop_) return false;
-      replaced = waiting_.has_value();
-      superseded_ += replaced;
+      was_waiting = waiting_.has_value();
+      superseded_ += was_waiting;
+      if (was_waiting && replaced) *replaced = std::move(waiting_);
       waiting_ = std::move(item);
     }
     wake_.notify_one();
-    return replaced;
+    return was_waiting;
   }
 
   // Ends the worker after the item it is processing; a waiting item is dropped. Idempotent.

@@ -24,7 +24,8 @@ StereoNode::StereoNode(ros::NodeHandle nh, ros::NodeHandle private_nh,
       private_nh_(private_nh),
       options_(options),
       reconfigure_(private_nh),
-      diagnostics_(nh, private_nh) {
+      diagnostics_(nh, private_nh),
+      ledger_(nh, "stereo") {
   if (options_.roi.enabled) {
     const StereoRoiOptions& roi = options_.roi;
     receiver_box_ = aar_description::LoadReceiverMesh(roi.receiver).Bounds();  // throws: fatal
@@ -57,6 +58,8 @@ StereoNode::StereoNode(ros::NodeHandle nh, ros::NodeHandle private_nh,
     exact_ = std::make_unique<message_filters::Synchronizer<ExactPolicy>>(
         ExactPolicy(options_.queue_size), left_sub_, left_info_sub_, right_sub_, right_info_sub_);
     exact_->registerCallback(&StereoNode::OnFrame, this);
+    // A tuple dropped incomplete: some halves of a pair never came (or came too late).
+    exact_->registerDropCallback(&StereoNode::OnUnpaired, this);
   }
   // Arrival bookkeeping for the "stamps never match" report.
   auto note = [this](int i, const ros::Time& stamp) {
@@ -156,6 +159,9 @@ void StereoNode::OnFrame(const Image::ConstPtr& left, const Info::ConstPtr& left
                                    right_info->header.stamp});
   if ((last - first).toSec() > options_.max_pair_skew) {
     ++skewed_;
+    ledger_.Dropped(
+        stamp, "sync_mismatch",
+        "halves " + std::to_string((last - first).toSec()) + " s apart, more than max_pair_skew");
     std::ostringstream s;
     s << "stereo: " << left_sub_.getTopic() << " " << stamp << " and " << right_sub_.getTopic()
       << " " << right->header.stamp << " (camera infos " << left_info->header.stamp << ", "
@@ -165,9 +171,20 @@ void StereoNode::OnFrame(const Image::ConstPtr& left, const Info::ConstPtr& left
     if (errors_.ShouldLog(s.str())) ROS_WARN_STREAM(s.str());
     return;
   }
+  // A pair stamped far ahead of the clock would become the last one taken, and every pair
+  // after it would be out of order until the clock passed it. Dropped, named.
+  if (const std::string ahead = StampAhead(stamp); !ahead.empty()) {
+    ++ahead_;
+    ledger_.Dropped(stamp, "ahead", ahead);
+    const std::string what = "stereo: pair on " + left_sub_.getTopic() + " and " +
+                             right_sub_.getTopic() + " dropped: " + ahead;
+    if (errors_.ShouldLog(what)) ROS_WARN_STREAM(what << " (" << ahead_ << " dropped so far)");
+    return;
+  }
   // A pair older than the last one taken came late (out of order): its cloud would reach the
   // stages after a newer one's. Dropped, named with both stamps.
   if (const std::string late = order_.Check(stamp, ros::Time::now()); !late.empty()) {
+    ledger_.Dropped(stamp, "out_of_order", late);
     const std::string what = "stereo: pair on " + left_sub_.getTopic() + " and " +
                              right_sub_.getTopic() + " dropped: " + late;
     if (errors_.ShouldLog(what))
@@ -179,13 +196,55 @@ void StereoNode::OnFrame(const Image::ConstPtr& left, const Info::ConstPtr& left
     Match(pair);
     return;
   }
-  if (stage_->Put(Pair{left, right, left_info, right_info})) {
+  std::optional<Pair> replaced;
+  if (stage_->Put(Pair{left, right, left_info, right_info}, &replaced)) {
     ++superseded_;
+    if (replaced)
+      ledger_.Dropped(replaced->left->header.stamp, "superseded",
+                      "a newer pair came while it waited for matching");
     ROS_WARN_STREAM_THROTTLE(5.0,
                              "stereo: a pair arrived while the previous one still waited "
                              "for matching: the older one skipped, the newest wins ("
                                  << superseded_ << " superseded so far)");
   }
+}
+
+std::string StereoNode::StampAhead(const ros::Time& stamp) const {
+  const ros::Time now = ros::Time::now();
+  // Under sim time the clock is 0 until the first /clock: nothing to compare with yet.
+  if (now.isZero() || (stamp - now).toSec() <= options_.max_stamp_lead) return "";
+  std::ostringstream s;
+  s << "stamp " << stamp << " is " << (stamp - now).toSec() << " s ahead of the clock (" << now
+    << "; max_stamp_lead " << options_.max_stamp_lead << " s)";
+  return s.str();
+}
+
+void StereoNode::OnUnpaired(const Image::ConstPtr& left, const Info::ConstPtr& left_info,
+                            const Image::ConstPtr& right, const Info::ConstPtr& right_info) {
+  std::string came, missing;
+  auto note = [&](bool present, const std::string& what) {
+    std::string& list = present ? came : missing;
+    list += (list.empty() ? "" : ", ") + what;
+  };
+  note(left != nullptr, "left image");
+  note(left_info != nullptr, "left camera info");
+  note(right != nullptr, "right image");
+  note(right_info != nullptr, "right camera info");
+  ros::Time stamp;
+  if (left)
+    stamp = left->header.stamp;
+  else if (left_info)
+    stamp = left_info->header.stamp;
+  else if (right)
+    stamp = right->header.stamp;
+  else if (right_info)
+    stamp = right_info->header.stamp;
+  ++unpaired_;
+  const std::string detail = came + " came, no " + missing + " with its stamp";
+  ledger_.Dropped(stamp, "sync_mismatch", detail);
+  const std::string what = "stereo: frame " + std::to_string(stamp.toSec()) +
+                           " dropped: " + detail + " (exact sync): are the cameras synchronised?";
+  if (errors_.ShouldLog(what)) ROS_WARN_STREAM(what << " (" << unpaired_ << " so far)");
 }
 
 void StereoNode::Match(Pair& pair) {
@@ -198,6 +257,8 @@ void StereoNode::Match(Pair& pair) {
     const double age = (ros::Time::now() - left->header.stamp).toSec();
     if (age > options_.max_frame_age) {
       ++stale_;
+      ledger_.Dropped(left->header.stamp, "stale",
+                      "waited " + std::to_string(age) + " s, more than max_frame_age");
       ROS_WARN_STREAM_THROTTLE(5.0, "stereo: dropping pairs that waited longer than max_frame_age ("
                                         << options_.max_frame_age << " s; this one " << age
                                         << " s): the graph is behind real time; " << stale_
@@ -211,7 +272,7 @@ void StereoNode::Match(Pair& pair) {
     if (!options_.rectified_upstream) WarnIfDistorted(*left_info, *right_info);
     const cv::Mat l = ToMono8(*left, "left"), r = ToMono8(*right, "right");
     std::lock_guard<std::mutex> lock(mutex_);
-    if (!processor_) return;
+    if (!processor_) throw std::runtime_error("no matcher settings");
     std::string why;
     FrameRegion region;
     try {
@@ -229,6 +290,7 @@ void StereoNode::Match(Pair& pair) {
     // Shared pointers: nodelets in the same manager receive the message without a copy.
     if (points_pub_.getNumSubscribers() > 0)
       points_pub_.publish(ToPointCloud2Msg(result.cloud, header));
+    ledger_.Passed(header.stamp);
     ++frames_;
     {
       std::lock_guard<std::mutex> stats(stats_mutex_);
@@ -252,6 +314,7 @@ void StereoNode::Match(Pair& pair) {
                          << (why.empty() ? "" : " (whole image: " + why + ")"));
   } catch (const std::exception& e) {
     ++skipped_;
+    ledger_.Dropped(left->header.stamp, "error", e.what());
     {
       std::lock_guard<std::mutex> stats(stats_mutex_);
       last_error_ = e.what();
@@ -375,6 +438,10 @@ void StereoNode::Diagnose(diagnostic_updater::DiagnosticStatusWrapper& status) {
   status.add("pairs dropped, halves apart (max_pair_skew)", static_cast<uint64_t>(skewed_));
   status.add("pairs superseded by a newer pair (skipped while matching)",
              static_cast<uint64_t>(superseded_));
+  status.add("pairs dropped as stamped ahead of the clock (max_stamp_lead)",
+             static_cast<uint64_t>(ahead_));
+  status.add("frames never paired (exact sync: a half missing)", static_cast<uint64_t>(unpaired_));
+  for (const auto& [key, n] : ledger_.Counts()) status.add("ledger: " + key, n);
   if (!options_.rectified_upstream)
     status.add("pairs with distorted camera infos (unrectified?)",
                static_cast<uint64_t>(distorted_));

@@ -71,6 +71,7 @@ StereoNodeOptions LoadStereoNodeOptions(aar_ros_common::ParamReader& params) {
   o.opencv_threads = params.Get("opencv_threads", o.opencv_threads);
   o.max_frame_age = params.Get("max_frame_age", o.max_frame_age);
   params.Check(o.max_frame_age >= 0.0, "max_frame_age", "must be >= 0 [s] (0: off)");
+  o.max_stamp_lead = params.GetNonNegative("max_stamp_lead", o.max_stamp_lead);
   o.rectified_upstream = params.Get("rectified_upstream", o.rectified_upstream);
   o.queue_size = params.Get("queue_size", o.queue_size);
   o.newest_wins = params.Get("newest_wins", o.newest_wins);

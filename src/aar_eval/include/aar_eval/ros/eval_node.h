@@ -5,11 +5,16 @@
 #include <mutex>
 #include <string>
 
+#include <set>
+
+#include <aar_msgs/FrameOutcome.h>
 #include <aar_msgs/PoseEstimate.h>
+#include <aar_ros_common/error_throttle.h>
 #include <aar_ros_common/param_reader.h>
 #include <ros/ros.h>
 #include <sensor_msgs/CameraInfo.h>
 #include <std_msgs/Header.h>
+#include <tf2_msgs/TFMessage.h>
 #include <tf2_ros/buffer.h>
 #include <tf2_ros/transform_listener.h>
 
@@ -22,7 +27,16 @@ struct EvalNodeOptions {
   // [s] the simulator's stamp = offset + path time; default: the sim's /sim/stamp_offset, else 1.
   double stamp_offset = 1.0;
   int expected_frames = 0;  // for progress lines "frame k of N"; 0: unknown
-  int grace_frames = 2;     // newer frames announced before a frame without estimate is a miss
+  // [s wall] the longest a frame waits for its estimate or a stage's drop before it is settled
+  // as a miss (the ledger then says where it was lost).
+  double settle_after = 10.0;
+  // The caller id whose aar/pose_estimate is taken (the registration nodelet's manager, or the
+  // registration node); estimates from any other publisher are ignored and warned about.
+  // Empty: the first publisher heard is taken, and named.
+  std::string estimate_publisher;
+  // [s] truth is taken only from a sample this close to the frame's stamp: never interpolated
+  // across an outage of the truth.
+  double truth_tolerance = 0.02;
   std::string truth_frame = "receiver_truth";
   std::string tanker_frame = "tanker";
 };
@@ -32,9 +46,11 @@ EvalNodeOptions LoadEvalNodeOptions(const ros::NodeHandle& private_nh);
 EvalNodeOptions LoadEvalNodeOptions(aar_ros_common::ParamReader& params);
 
 // The ROS side of Evaluator: each frame (stereo/left/camera_info) paired with its estimate
-// (aar/pose_estimate) and the truth (tf tanker -> receiver_truth); each settled frame goes to
-// OUTPUT_DIR/frames.csv as it settles, estimated ones to aar/pose_error. On destruction the last
-// frames are settled and a summary per region printed.
+// (aar/pose_estimate), the stages' reports (/aar/frame_outcome) and the truth (tf tanker ->
+// receiver_truth); each settled frame goes to OUTPUT_DIR/frames.csv and its one outcome to
+// OUTPUT_DIR/ledger.csv as it settles, estimated ones to aar/pose_error. On destruction the
+// last frames are settled and a summary per region and of the ledger printed. A file that cannot
+// be written ends the node (FATAL, naming it).
 class EvalNode {
  public:
   EvalNode(ros::NodeHandle nh, const EvalNodeOptions& options);
@@ -42,21 +58,37 @@ class EvalNode {
 
  private:
   void OnFrame(const sensor_msgs::CameraInfo::ConstPtr& info);
-  void OnEstimate(const aar_msgs::PoseEstimate::ConstPtr& estimate);
+  void OnEstimate(const ros::MessageEvent<aar_msgs::PoseEstimate const>& event);
+  // Whether an estimate from `publisher` is taken (the expected registration's).
+  bool FromExpectedPublisher(const std::string& publisher, const ros::Time& stamp);
+  void OnOutcome(const aar_msgs::FrameOutcome::ConstPtr& outcome);
+  void OnTf(const tf2_msgs::TFMessage::ConstPtr& tf);
+  void Settle();                                          // mutex_ held
   void Record(const std::vector<SettledFrame>& settled);  // mutex_ held
-  std::optional<Eigen::Isometry3d> Truth(int64_t stamp_ns, std::string* error) const;
+  void Write(std::ofstream& out, const std::string& path, const std::string& line);
+  std::optional<Eigen::Isometry3d> Truth(int64_t stamp_ns, std::string* error);
+  bool TruthReady(int64_t stamp_ns);
 
   ros::NodeHandle nh_;
   EvalNodeOptions options_;
   tf2_ros::Buffer tf_;
   tf2_ros::TransformListener listener_;
   ros::Publisher error_pub_;
-  ros::Subscriber frame_sub_, estimate_sub_;
+  ros::Subscriber frame_sub_, estimate_sub_, outcome_sub_, tf_sub_, tf_static_sub_;
+  ros::WallTimer settle_timer_;
   std::mutex mutex_;
   Evaluator evaluator_;
   std::map<int64_t, std_msgs::Header> estimate_headers_;  // for aar/pose_error
-  std::ofstream out_;
-  std::string path_;
+  std::ofstream out_, ledger_out_;
+  std::string path_, ledger_path_;
+  std::string publisher_;                             // whose estimates are taken
+  std::map<std::string, uint64_t> other_publishers_;  // estimates ignored, per caller id
+  std::mutex truth_mutex_;
+  std::set<int64_t> truth_stamps_;  // of the truth samples heard on /tf
+  bool truth_static_ = false;       // the truth came on /tf_static
+  bool write_failed_ = false;
+  std::map<std::string, uint64_t> drops_;  // frames dropped, per "stage (reason)"
+  aar_ros_common::ErrorThrottle drop_log_;
   bool stopping_ = false;  // in the destructor: log to stderr, rosconsole is gone
 };
 

@@ -8,6 +8,7 @@
 #include <string>
 
 #include <aar_ros_common/error_throttle.h>
+#include <aar_ros_common/frame_ledger.h>
 #include <aar_ros_common/frames.h>
 #include <aar_ros_common/param_reader.h>
 #include <diagnostic_updater/diagnostic_updater.h>
@@ -101,6 +102,7 @@ class OcclusionNode {
   size_t last_propeller_points_ = 0;     // of the boom points removed: on the propeller discs
   size_t last_gated_points_ = 0;         // dropped by the receiver gate
   std::atomic<uint64_t> superseded_{0};  // clouds skipped while culling (a newer one came)
+  aar_ros_common::FrameLedger ledger_;   // every cloud taken in: passed on or dropped, why
 
   // Last: the culling thread (stopped first in the destructor) uses the members above.
   std::unique_ptr<aar_ros_common::NewestWins<sensor_msgs::PointCloud2::ConstPtr>> stage_;

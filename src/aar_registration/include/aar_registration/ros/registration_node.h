@@ -10,6 +10,7 @@
 
 #include <aar_geometry/triangle_mesh.h>
 #include <aar_ros_common/error_throttle.h>
+#include <aar_ros_common/frame_ledger.h>
 #include <aar_ros_common/frames.h>
 #include <aar_ros_common/newest_wins.h>
 #include <aar_ros_common/param_reader.h>
@@ -135,6 +136,7 @@ class RegistrationNode {
   double last_outline_quality_ = 0.0;
   TrackOutcome last_outcome_ = TrackOutcome::kMissed;
   std::atomic<uint64_t> superseded_{0};  // clouds skipped while registering (a newer one came)
+  aar_ros_common::FrameLedger ledger_;   // every cloud taken in: an estimate or dropped, why
 
   // Last: the registering thread (newest_wins; stopped first in the destructor) uses the members
   // above.

@@ -4,6 +4,7 @@
 #include <aar_geometry/robot_model.h>
 #include <aar_ros_common/error_throttle.h>
 #include <aar_ros_common/estimate_listener.h>
+#include <aar_ros_common/frame_ledger.h>
 #include <aar_ros_common/frames.h>
 #include <aar_ros_common/newest_wins.h>
 #include <aar_ros_common/param_reader.h>
@@ -73,6 +74,10 @@ struct StereoNodeOptions {
   // latency stays bounded when the graph falls behind a live camera. 0: off (lockstep and slow
   // replays never fall behind).
   double max_frame_age = 0.0;
+  // [s] a pair stamped further ahead of the clock than this is dropped, named (as registration's
+  // max_stamp_lead): taken, it would make every pair after it "out of order" until the clock
+  // passed it.
+  double max_stamp_lead = 1.0;
   StereoRoiOptions roi;
 };
 
@@ -120,6 +125,10 @@ class StereoNode {
   };
   void OnFrame(const Image::ConstPtr& left, const Info::ConstPtr& left_info,
                const Image::ConstPtr& right, const Info::ConstPtr& right_info);
+  void OnUnpaired(const Image::ConstPtr& left, const Info::ConstPtr& left_info,
+                  const Image::ConstPtr& right, const Info::ConstPtr& right_info);
+  // Empty, or why `stamp` is too far ahead of the clock (max_stamp_lead).
+  std::string StampAhead(const ros::Time& stamp) const;
   void Match(Pair& pair);
   void OnReconfigure(StereoConfig& config, uint32_t level);
   void WarnIfDistorted(const Info& left, const Info& right);
@@ -155,6 +164,8 @@ class StereoNode {
   diagnostic_updater::Updater diagnostics_;
   std::atomic<uint64_t> frames_{0}, skipped_{0}, stale_{0}, skewed_{0}, superseded_{0};
   std::atomic<uint64_t> distorted_{0};  // pairs whose camera infos had a non-zero D
+  std::atomic<uint64_t> ahead_{0}, unpaired_{0};
+  aar_ros_common::FrameLedger ledger_;  // every pair taken in: passed or dropped, why
   aar_ros_common::StampOrder order_;    // pairs are taken in stamp order
   std::mutex stats_mutex_;
   StereoTimings last_timings_;
