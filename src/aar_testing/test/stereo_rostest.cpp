@@ -404,9 +404,10 @@ TEST(Stamps, APairFarAheadIsDroppedAndHalvesThatNeverPairAreNamed) {
   aar_testing::WaitFor([&] { return outcomes.size() >= 7; }, 10.0);
   EXPECT_TRUE(f.errors.Wait("dropped: stamp " + Str(ahead) + " is ", 5.0));
   EXPECT_TRUE(f.errors.Wait("s ahead of the clock", 5.0));
-  EXPECT_TRUE(f.errors.Wait("dropped: left image, left camera info came, no right image, right "
-                            "camera info with its stamp (exact sync)",
-                            5.0));
+  EXPECT_TRUE(
+      f.errors.Wait("dropped: left image, left camera info came, no right image, right "
+                    "camera info with its stamp (exact sync)",
+                    5.0));
   std::lock_guard<std::mutex> lock(f.points.mutex), outcome_lock(outcomes.mutex);
   EXPECT_EQ(f.points.by_stamp.count(ahead), 0u) << "a pair 1000 s ahead gave a cloud";
   for (int k : {0, 1, 2, 4, 5}) {

@@ -191,6 +191,7 @@ void StereoNode::OnFrame(const Image::ConstPtr& left, const Info::ConstPtr& left
       ROS_WARN_STREAM(what << " (" << order_.dropped() << " dropped so far)");
     return;
   }
+  last_taken_ = stamp;
   if (!options_.newest_wins) {
     Pair pair{left, right, left_info, right_info};
     Match(pair);
@@ -213,6 +214,9 @@ std::string StereoNode::StampAhead(const ros::Time& stamp) const {
   const ros::Time now = ros::Time::now();
   // Under sim time the clock is 0 until the first /clock: nothing to compare with yet.
   if (now.isZero() || (stamp - now).toSec() <= options_.max_stamp_lead) return "";
+  // A clock that lags the data is not enough (its callback queued behind busy ones in a fast
+  // replay): the pair must also be that far ahead of the last pair taken.
+  if (!last_taken_.isZero() && (stamp - last_taken_).toSec() <= options_.max_stamp_lead) return "";
   std::ostringstream s;
   s << "stamp " << stamp << " is " << (stamp - now).toSec() << " s ahead of the clock (" << now
     << "; max_stamp_lead " << options_.max_stamp_lead << " s)";

@@ -74,9 +74,10 @@ struct StereoNodeOptions {
   // latency stays bounded when the graph falls behind a live camera. 0: off (lockstep and slow
   // replays never fall behind).
   double max_frame_age = 0.0;
-  // [s] a pair stamped further ahead of the clock than this is dropped, named (as registration's
-  // max_stamp_lead): taken, it would make every pair after it "out of order" until the clock
-  // passed it.
+  // [s] a pair stamped further ahead than this of both the clock and the last pair taken is
+  // dropped, named (as registration's max_stamp_lead): taken, it would make every pair after it
+  // "out of order" until the clock passed it. Ahead of the clock alone is not enough: in a fast
+  // replay the clock's callback can wait behind busy ones.
   double max_stamp_lead = 1.0;
   StereoRoiOptions roi;
 };
@@ -167,6 +168,7 @@ class StereoNode {
   std::atomic<uint64_t> ahead_{0}, unpaired_{0};
   aar_ros_common::FrameLedger ledger_;  // every pair taken in: passed or dropped, why
   aar_ros_common::StampOrder order_;    // pairs are taken in stamp order
+  ros::Time last_taken_;                // the last pair's stamp (OnFrame: the synchroniser's lock)
   std::mutex stats_mutex_;
   StereoTimings last_timings_;
   size_t last_points_ = 0;
