@@ -153,7 +153,8 @@ ReportResult WriteReport(const ReportOptions& options) {
            "volumes translucent (left blue, right orange), receiver at the estimate orange.\n\n";
     for (const auto& png : captures) out << "![" << png << "](captures/" << png << ")\n\n";
   }
-  if (!out) throw std::runtime_error(result.path + ": write failed");
+  out.close();  // flushes: a full disk shows here, not in the buffered writes
+  if (out.fail()) throw std::runtime_error(result.path + ": write failed");
   result.experiments = done;
   return result;
 }

@@ -252,7 +252,8 @@ SuiteReportResult WriteSuiteReport(const SuiteReportOptions& options) {
       out << "\n";
     }
   }
-  if (!out) throw std::runtime_error(result.path + ": write failed");
+  out.close();  // flushes: a full disk shows here, not in the buffered writes
+  if (out.fail()) throw std::runtime_error(result.path + ": write failed");
   return result;
 }
 

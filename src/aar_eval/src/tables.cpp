@@ -139,7 +139,8 @@ void WriteFrameCsv(const std::string& path, const std::vector<FrameRecord>& fram
   if (!out) throw aar_geometry::LoadError(path, "cannot be written");
   out << FrameCsvHeader() << "\n";
   for (const auto& f : frames) out << FrameCsvRow(f) << "\n";
-  if (!out) throw aar_geometry::LoadError(path, "write failed");
+  out.close();  // flushes: a full disk shows here, not in the buffered writes
+  if (out.fail()) throw aar_geometry::LoadError(path, "write failed");
 }
 
 std::vector<FrameRecord> ReadFrameCsv(const std::string& path) {

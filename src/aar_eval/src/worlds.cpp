@@ -155,7 +155,8 @@ WorldsReportResult WriteWorldsReport(const WorldsReportOptions& options) {
       }
     }
   }
-  if (!out) throw std::runtime_error(options.path + ": write failed");
+  out.close();  // flushes: a full disk shows here, not in the buffered writes
+  if (out.fail()) throw std::runtime_error(options.path + ": write failed");
   return result;
 }
 

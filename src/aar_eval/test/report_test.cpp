@@ -7,6 +7,8 @@
 #include <fstream>
 #include <iterator>
 
+#include <aar_geometry/load_error.h>
+
 #include "aar_eval/tables.h"
 
 namespace aar_eval {
@@ -105,6 +107,26 @@ TEST(Report, EveryFrameEstimatedIsSaidAndHasNoMissSection) {
       << report;
   EXPECT_EQ(report.find("Miss policy:"), std::string::npos);
   EXPECT_EQ(report.find("## As published"), std::string::npos);
+  std::filesystem::remove_all(dir);
+}
+
+// A full disk (report.md on /dev/full, which refuses every write with ENOSPC): the report was
+// once a 0-byte file and exit 0, the write being buffered past the check. Now an error naming it;
+// the same for frames.csv.
+TEST(Report, AFullDiskIsAnErrorNotAnEmptyReport) {
+  const std::string dir = testing::TempDir() + "/aar_eval_report_full_disk";
+  std::filesystem::remove_all(dir);
+  for (const char* e : {"naive", "dynamic"}) std::filesystem::create_directories(dir + "/" + e);
+  WriteFrameCsv(dir + "/naive/frames.csv", {Frame(1.0, 0.4)});
+  WriteFrameCsv(dir + "/dynamic/frames.csv", {Frame(1.0, 0.2)});
+  std::filesystem::create_symlink("/dev/full", dir + "/report.md");
+  try {
+    WriteReport({dir, {"naive", "dynamic"}, "naive"});
+    ADD_FAILURE() << "a report written to a full disk was taken as written";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("report.md: write failed"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(WriteFrameCsv("/dev/full", {Frame(1.0, 0.4)}), aar_geometry::LoadError);
   std::filesystem::remove_all(dir);
 }
 
