@@ -4,6 +4,7 @@
 
 #include <atomic>
 #include <chrono>
+#include <optional>
 #include <vector>
 
 namespace aar_ros_common {
@@ -39,6 +40,26 @@ TEST(NewestWins, SlowWorkerSkipsToTheNewestAndCountsTheSkips) {
   EXPECT_EQ(stage.superseded(), 49u);  // every skipped item counted
   EXPECT_EQ(stage.processed(), 2u);
   EXPECT_LT(put_ms, 1000.0);  // no Put waited for the blocked worker
+}
+
+// The frame ledger needs to know which item was skipped: Put hands back the one it replaced.
+TEST(NewestWins, PutHandsBackTheItemItReplaced) {
+  std::atomic<bool> started{false}, release{false};
+  NewestWins<int> stage([&](int&) {
+    started = true;
+    while (!release) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  });
+  std::optional<int> replaced;
+  EXPECT_FALSE(stage.Put(1, &replaced));
+  while (!started) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  EXPECT_FALSE(stage.Put(2, &replaced));  // waits: nothing replaced
+  EXPECT_FALSE(replaced.has_value());
+  EXPECT_TRUE(stage.Put(3, &replaced));
+  EXPECT_EQ(replaced, 2);
+  EXPECT_TRUE(stage.Put(4, &replaced));
+  EXPECT_EQ(replaced, 3);
+  release = true;
+  stage.Stop();
 }
 
 TEST(NewestWins, StopDropsTheWaitingItemAndRefusesNewOnes) {

@@ -119,14 +119,20 @@ std::optional<Eigen::Isometry3d> EvalNode::Truth(int64_t stamp_ns, std::string* 
                                          ToRosTime(stamp_ns), 0.0, "the frame's stamp", error);
 }
 
+// Ready once a truth sample after the frame's came: tf2 then interpolates at ratio 0 between the
+// frame's sample and the next, the lookup eval always made, so per-frame results stay identical
+// to the last digit across versions (the frame's sample alone differs by ~1e-15 m).
 bool EvalNode::TruthReady(int64_t stamp_ns) {
+  int64_t next = stamp_ns;  // the first truth sample after the frame, once the tf buffer has it
   {
     std::lock_guard<std::mutex> lock(truth_mutex_);
-    const int64_t tolerance = static_cast<int64_t>(options_.truth_tolerance * 1e9);
-    if (!truth_static_ && (truth_stamps_.empty() || *truth_stamps_.rbegin() < stamp_ns - tolerance))
-      return false;
+    if (!truth_static_) {
+      const auto after = truth_stamps_.upper_bound(stamp_ns);
+      if (after == truth_stamps_.end()) return false;
+      next = *after;
+    }
   }
-  return tf_.canTransform(options_.tanker_frame, options_.truth_frame, ToRosTime(stamp_ns));
+  return tf_.canTransform(options_.tanker_frame, options_.truth_frame, ToRosTime(next));
 }
 
 void EvalNode::OnTf(const tf2_msgs::TFMessage::ConstPtr& tf) {
