@@ -77,17 +77,20 @@ class Flight:
             self.proc = subprocess.Popen(self.run.command(self.out_dir, self.port), stdout=log,
                                          stderr=subprocess.STDOUT, stdin=subprocess.DEVNULL,
                                          env=env, start_new_session=True)
-            sampler = threading.Thread(target=self._sample, daemon=True)
+            done = threading.Event()
+            sampler = threading.Thread(target=self._sample, args=(done,), daemon=True)
             sampler.start()
             code = self.proc.wait()
+            done.set()  # the sampler stops at once, not after its period
             sampler.join()
             return code
 
-    def _sample(self, period=2.0):
+    def _sample(self, done, period=2.0):
         """The run's peak memory (every `period` s), for sizing cluster jobs."""
         while self.proc.poll() is None:
             self.peak_rss_mb = max(self.peak_rss_mb, tree_rss_mb(self.proc.pid))
-            time.sleep(period)
+            if done.wait(period):
+                return
 
     def stop(self):
         if self.proc is not None and self.proc.poll() is None:

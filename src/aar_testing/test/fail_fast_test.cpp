@@ -10,6 +10,7 @@
 
 #include "aar_testing/command.h"
 #include "aar_testing/paths.h"
+#include "aar_testing/time_scale.h"
 
 namespace {
 
@@ -41,8 +42,9 @@ TEST(FailFast, AStageRefusingAParameterEndsTheRunNamingTheKey) {
   EXPECT_NE(r.output.find("registration cannot start: its process ends"), std::string::npos)
       << r.output;
   EXPECT_NE(r.output.find("1 attempt(s)"), std::string::npos) << "retried: " << r.output;
-  // Start-up (master, manager, the renderer) is about 5 s; the 20 frames would take 5 s each.
-  EXPECT_LT(r.seconds, 30.0) << r.output;
+  // Measured 2.7 to 3.1 s (was 6.1 s: the simulator, still building its world, held the launch
+  // up; 106 s before the stage ended its process); the 20 frames would take 5 s each.
+  EXPECT_LT(r.seconds, 5.0 * aar_testing::TimeScale()) << r.output;
   EXPECT_NE(Read("/tmp/aar_fail_fast_value/run.json").find("\"reason\""), std::string::npos);
 }
 
@@ -54,7 +56,7 @@ TEST(FailFast, AnExperimentNamespaceNoStageReadsStopsTheLaunchBeforeAnyNode) {
   EXPECT_NE(r.output.find("unknown namespace 'registraton' (no stage reads it"), std::string::npos)
       << r.output;
   EXPECT_NE(r.output.find("1 attempt(s)"), std::string::npos) << "retried: " << r.output;
-  EXPECT_LT(r.seconds, 20.0) << r.output;
+  EXPECT_LT(r.seconds, 5.0 * aar_testing::TimeScale()) << r.output;  // measured 0.8 to 0.9 s
 }
 
 TEST(FailFast, EveryShippedExperimentHasOnlyTheStagesNamespaces) {

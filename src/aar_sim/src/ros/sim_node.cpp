@@ -142,7 +142,9 @@ void SimNode::Loop() {
       ros::WallDuration(0.05).sleep();
     }
   }
-  if (options_.start_delay > 0.0) ros::WallDuration(options_.start_delay).sleep();
+  // In steps, so that a shutdown (the launch ending) is not held up by the delay.
+  const ros::WallTime start = ros::WallTime::now() + ros::WallDuration(options_.start_delay);
+  while (!stop_ && ros::ok() && ros::WallTime::now() < start) ros::WallDuration(0.05).sleep();
   const int path_frames = static_cast<int>(std::floor(
                               (path_.end_time() - options_.start_time) * options_.rate + 1e-9)) +
                           1;
