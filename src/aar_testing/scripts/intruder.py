@@ -4,12 +4,14 @@ anyone do who reaches a master and its nodes (no authentication):
   1. a TCP connection to a port that is not ROS's and where nothing listens (the host is
      reachable: the kernel refuses it);
   2. registerPublisher of /aar/pose_estimate with the master (XML-RPC);
-  3. a TCP connection to every port the camera host listens on (--ports, as a scan finds them);
+  3. a TCP connection to every port the camera host listens on (--ports, as a scan finds them),
+     and the perception host (--perception ADDR --perception-ports P,P,...);
   4. a rospy node publishing, for --seconds, a copy of each real pose with x = 1e6 m (a lie that
      eval, on the camera host, records if it arrives).
 One line per attempt, each starting 'intruder: ', saying whether it got through and if not why
 (the socket's reason: 'timed out after 3 s' when a firewall drops it).
-  intruder.py --master URI --ports P,P,... --closed-port P --seconds S"""
+  intruder.py --master URI --ports P,P,... --perception ADDR --perception-ports P,P,...
+              --closed-port P --seconds S"""
 import argparse
 import concurrent.futures
 import os
@@ -103,11 +105,12 @@ def main():
     parser = argparse.ArgumentParser()
     parser.add_argument("--master", required=True)
     parser.add_argument("--ports", required=True, help="P,P,...: the camera host's ports")
+    parser.add_argument("--perception", required=True, help="the perception host's address")
+    parser.add_argument("--perception-ports", required=True, help="P,P,...: its ports")
     parser.add_argument("--closed-port", type=int, required=True)
     parser.add_argument("--seconds", type=float, required=True)
     args = parser.parse_args()
     host = urlparse(args.master).hostname
-    ports = [int(p) for p in args.ports.split(",") if p]
     own_ip = os.environ.get("ROS_IP", "")
     socket.setdefaulttimeout(TIMEOUT)  # the XML-RPC call's too; not rospy's, below
     closed = connect(host, args.closed_port)
@@ -115,8 +118,11 @@ def main():
           f"{closed or 'accepted'}", flush=True)
     print(f"intruder: registerPublisher /aar/pose_estimate with the master {args.master}: "
           f"{register(args.master, own_ip)}", flush=True)
-    print(f"intruder: the camera host's listening ports ({args.ports}): {scan(host, ports)}",
-          flush=True)
+    for who, address, ports in (("camera", host, args.ports),
+                                ("perception", args.perception, args.perception_ports)):
+        found = [int(p) for p in ports.split(",") if p]
+        print(f"intruder: the {who} host's listening ports ({ports}): {scan(address, found)}",
+              flush=True)
     socket.setdefaulttimeout(None)
     print(f"intruder: publish /aar/pose_estimate: {publish(args.seconds)}", flush=True)
     os._exit(0)  # rospy's threads, if any, go with it

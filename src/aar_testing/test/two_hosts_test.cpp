@@ -210,6 +210,12 @@ TEST(TwoHosts, AThirdHostOnTheLinkCannotRegisterConnectOrPublish) {
                  "a connection; the others: timed out after 3 s\n")))
       << s;
   EXPECT_GE(std::stoi(scan[1]), 6);  // the master, rosout, sim, rsp, stereo's manager, eval...
+  ASSERT_TRUE(std::regex_search(
+      s, scan,
+      std::regex("intruder: the perception host's listening ports \\([0-9,]+\\): 0 of ([0-9]+) "
+                 "accept a connection; the others: timed out after 3 s\n")))
+      << s;
+  EXPECT_GE(std::stoi(scan[1]), 4);  // roslaunch, the manager, occlusion, registration...
   EXPECT_TRUE(std::regex_search(
       s, std::regex("intruder: publish /aar/pose_estimate: refused: no node came up in 8 s")))
       << s;
@@ -240,6 +246,11 @@ TEST(TwoHosts, WithoutTheFirewallTheSameIntruderRegistersAndForgesPoses) {
       s, scan,
       std::regex("intruder: the camera host's listening ports \\([0-9,]+\\): ([0-9]+) of ([0-9]+) "
                  "accept a connection")))
+      << s;
+  EXPECT_EQ(scan[1], scan[2]);
+  ASSERT_TRUE(std::regex_search(s, scan,
+                                std::regex("intruder: the perception host's listening ports "
+                                           "\\([0-9,]+\\): ([0-9]+) of ([0-9]+) accept")))
       << s;
   EXPECT_EQ(scan[1], scan[2]);
   EXPECT_GE(Number(s,
