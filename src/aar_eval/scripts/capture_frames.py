@@ -26,10 +26,19 @@ def main():
     count = [0]
     pending = list(frames)
     done = threading.Event()
+    failed = []
 
     def grab(k):
         path = os.path.join(out, f"frame_{k:03d}.png")
-        ImageGrab.grab(xdisplay=display).save(path)
+        try:
+            ImageGrab.grab(xdisplay=display).save(path)
+        except OSError as e:  # a full disk: no truncated PNG left behind, and no wait for it
+            rospy.logfatal(f"capture_frames: cannot write {path}: {e}")
+            if os.path.exists(path):
+                os.remove(path)
+            failed.append(path)
+            done.set()
+            return
         rospy.loginfo(f"capture_frames: wrote {path}")
         if k == frames[-1]:
             done.set()
@@ -47,6 +56,8 @@ def main():
         if rospy.is_shutdown() or waited > timeout:
             rospy.logerr(f"capture_frames: {count[0]} estimates; frames {pending} not captured")
             sys.exit(1)
+    if failed:
+        sys.exit(1)
     rospy.sleep(0.5)
 
 
