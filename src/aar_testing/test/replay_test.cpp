@@ -243,6 +243,24 @@ TEST(Replay, BrokenBagsAreNamedAndRefused) {
 
 // Headless rviz on the sample bag: the capture shows the removed boom points (magenta) and the
 // reference points both cameras see (red), the colours config/rviz/aar.rviz gives them.
+// A full disk (a 200 KB tmpfs: the logs fit, the 330 KB PNG does not): the capture names the file
+// it could not write and ends, instead of leaving a truncated PNG and waiting out its 300 s.
+TEST(Capture, AFullDiskIsNamedNotWaitedOut) {
+  const std::string mount = ::testing::TempDir() + "/capture_full_disk";
+  std::filesystem::create_directories(mount);
+  Sh("umount " + mount + " 2>/dev/null");
+  ASSERT_EQ(Sh("mount -t tmpfs -o size=200k tmpfs " + mount).status, 0) << "needs root";
+  const Result r = Sh(Timeout(400) + kRoot + "/scripts/capture --no-build " + kRoot +
+                      "/rosbags/sample_contact.bag --frames 6 --out " + mount + "/out");
+  Sh("umount " + mount);
+  std::printf("%s", r.output.c_str());
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.output.find("capture_frames: cannot write " + mount +
+                          "/out/frame_006.png: [Errno 28] No space left on device"),
+            std::string::npos);
+  EXPECT_LT(r.seconds, 120.0 * kScale);  // measured 14 s; the capture's own limit is 300 s
+}
+
 TEST(Capture, ScreenshotShowsTheConfiguredColours) {
   const std::string out = ::testing::TempDir() + "/capture_sample";
   std::filesystem::remove_all(out);
