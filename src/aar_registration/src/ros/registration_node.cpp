@@ -165,12 +165,13 @@ void RegistrationNode::ExpirePending(const ros::WallTimerEvent&) {
     while (answered_.size() > 100) answered_.erase(answered_.begin());
   }
   for (const ros::Time& stamp : expired) {
-    ReportError(
-        "no reference cloud with the points' stamp within " +
-        std::to_string(options_.reference_timeout) +
-        " s: is occlusion_node publishing aar/reference_cloud (publish_reference), or did it skip "
-        "this cloud for a newer one (newest_wins)?");
-    Publish(RegistrarResult{}, stamp, 0.0);
+    RegistrarResult none;
+    none.error = "no reference cloud with the points' stamp within " +
+                 std::to_string(options_.reference_timeout) + " s";
+    ReportError(none.error +
+                ": is occlusion_node publishing aar/reference_cloud (publish_reference), or did "
+                "it skip this cloud for a newer one (newest_wins)?");
+    Publish(none, stamp, 0.0);
   }
 }
 
