@@ -6,7 +6,7 @@
 
 namespace aar_ros_common {
 
-// The tf frames the perception nodes share, with the stack's names (DESIGN.md).
+// The tf frames the perception nodes share, with the stack's names (docs/ARCHITECTURE.md, Frames).
 struct StackFrames {
   std::string tanker = "tanker";
   std::string receiver = "receiver";  // the estimate: tf tanker -> receiver

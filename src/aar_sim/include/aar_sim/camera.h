@@ -35,10 +35,11 @@ struct StereoRig {
 };
 
 // A rig whose centre sits at `centre_in_tanker` [m], looking along the tanker heading turned by
-// `yaw_deg` (180: aft) and pitched down by `pitch_down_deg`. Default (DESIGN.md): 20 m aft,
-// 3 m below the tanker origin, looking aft, 25 deg down; and 1 m left of the boom's plane: on
-// the plane, every line of sight 6 to 22 deg below the horizon crosses the boom, which hides a
-// receiver beyond about 100 m completely (0 stereo points at 174 m; 79 with the offset).
+// `yaw_deg` (180: aft) and pitched down by `pitch_down_deg`. Default (docs/ARCHITECTURE.md,
+// Frames): 20 m aft, 3 m below the tanker origin, looking aft, 25 deg down; and 1 m left of the
+// boom's plane: on the plane, every line of sight 6 to 22 deg below the horizon crosses the boom,
+// which hides a receiver beyond about 100 m completely (0 stereo points at 174 m; 79 with the
+// offset).
 StereoRig MakeStereoRig(const CameraIntrinsics& intrinsics, double baseline,
                         const Eigen::Vector3d& centre_in_tanker = {-20.0, 1.0, -3.0},
                         double yaw_deg = 180.0, double pitch_down_deg = 25.0);

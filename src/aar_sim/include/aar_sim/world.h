@@ -36,7 +36,8 @@ struct WorldOptions {
 
 // The shipped world: the C-12 (c12.yaml) and boom.urdf from `models_dir` (aar_description's
 // models/, whose parent's parent holds aar_description for package:// look-ups) and the default rig
-// (1280x960, 60 deg, 0.5 m baseline, DESIGN.md mount). Renderer options stay at their defaults.
+// (1280x960, 60 deg, 0.5 m baseline, the default mount of docs/ARCHITECTURE.md). Renderer options
+// stay at their defaults.
 WorldOptions DefaultWorldOptions(const std::string& models_dir);
 
 // The scene at a time: the receiver's path row and the boom's pose.
