@@ -96,7 +96,12 @@ TEST(Replay, TfOutageFramesAreNamedAndCounted) {
   // 47.0 to 47.9 s: 10 frames, give or take the edges of the outage.
   EXPECT_GE(std::stoi(m[1]), 8);
   EXPECT_LE(std::stoi(m[1]), 12);
-  EXPECT_EQ(r.output.find("reached eval"), std::string::npos) << "frames lost without a word";
+  EXPECT_EQ(r.output.find("frames reached eval"), std::string::npos)
+      << "frames lost without a word";
+  // The ledger counts the outage's frames as eval's (no truth), and every frame as reaching eval.
+  EXPECT_NE(r.output.find(m[1].str() + " dropped (eval no_truth " + m[1].str() + ")"),
+            std::string::npos);
+  EXPECT_NE(r.output.find("0 of 30 frames sent never reached eval"), std::string::npos);
   EXPECT_EQ(Sh("grep -c 'tf outage starts' " + out + "/dynamic/launch.log").output, "1\n");
 }
 
