@@ -11,11 +11,14 @@ export PATH="/usr/bin:/bin:$PATH"
 absolute() { case "$1" in /*) echo "$1" ;; *) echo "$caller/$1" ;; esac; }
 
 # The workspace's ROS environment (devel/, or AAR_DEVEL's); Debian's /etc/catkin/profile.d
-# scripts read unset variables, so -u is off while it is sourced.
+# scripts read unset variables, so -u is off while it is sourced. --if-built: nothing when the
+# workspace is not built yet (a script that builds it afterwards).
 source_devel() {
+  local setup="$root/${AAR_DEVEL:-devel}/setup.bash"
+  [ "${1:-}" = --if-built ] && [ ! -f "$setup" ] && return 0
   set +u
   # shellcheck disable=SC1090,SC1091
-  source "$root/${AAR_DEVEL:-devel}/setup.bash"
+  source "$setup"
   set -u
 }
 
