@@ -49,16 +49,4 @@ std::vector<std::pair<std::string, uint64_t>> FrameLedger::Counts() const {
   return counts;
 }
 
-uint64_t FrameLedger::passed() const {
-  std::lock_guard<std::mutex> lock(mutex_);
-  return passed_;
-}
-
-uint64_t FrameLedger::dropped() const {
-  std::lock_guard<std::mutex> lock(mutex_);
-  uint64_t n = 0;
-  for (const auto& entry : dropped_) n += entry.second;
-  return n;
-}
-
 }  // namespace aar_ros_common

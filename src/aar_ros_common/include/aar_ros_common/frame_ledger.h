@@ -1,7 +1,6 @@
 #pragma once
 
 #include <cstdint>
-#include <map>
 #include <mutex>
 #include <string>
 #include <utility>
@@ -28,8 +27,6 @@ class FrameLedger {
   // ("frames passed", n), then ("frames dropped: REASON", n) per reason, in the order the
   // reasons first occurred; the keys are the stage's /diagnostics keys.
   std::vector<std::pair<std::string, uint64_t>> Counts() const;
-  uint64_t passed() const;
-  uint64_t dropped() const;
 
  private:
   void Publish(const ros::Time& stamp, uint8_t outcome, const std::string& reason,
