@@ -127,7 +127,8 @@ std::string ResolveMeshPath(const std::string& uri, const fs::path& urdf_dir,
     const size_t slash = rest.find('/');
     if (slash == std::string::npos) throw std::runtime_error("'" + uri + "' names no file");
     const std::string package = rest.substr(0, slash);
-    const std::string root = FindPackage(package, PackageRoots(options));
+    const std::string root = options.find_package ? options.find_package(package)
+                                                  : FindPackage(package, PackageRoots(options));
     if (root.empty()) {
       throw std::runtime_error("package '" + package + "' of '" + uri +
                                "' not found in the package paths (ROS_PACKAGE_PATH)");
@@ -222,19 +223,8 @@ JointType ToJointType(int type) {
   }
 }
 
-}  // namespace
-
-RobotModel LoadRobotModel(const std::string& path, const RobotModelOptions& options) {
-  CheckReadableFile(path);
-  std::ifstream file(path);
-  std::stringstream xml;
-  xml << file.rdbuf();
-  return ParseRobotModel(xml.str(), path, fs::absolute(fs::path(path)).parent_path().string(),
-                         options);
-}
-
-RobotModel ParseRobotModel(const std::string& xml, const std::string& path,
-                           const std::string& base_dir, const RobotModelOptions& options) {
+// urdfdom's model of `xml`, with a root link; its console errors fail the parse.
+urdf::ModelInterfaceSharedPtr ParseUrdf(const std::string& xml, const std::string& path) {
   if (xml.find_first_not_of(" \t\r\n") == std::string::npos) throw LoadError(path, "URDF is empty");
   urdf::ModelInterfaceSharedPtr urdf;
   std::string parse_messages;
@@ -252,6 +242,63 @@ RobotModel ParseRobotModel(const std::string& xml, const std::string& path,
                               (parse_messages.empty() ? std::string() : ": " + parse_messages));
   }
   if (!urdf->getRoot()) throw LoadError(path, "URDF has no root link");
+  return urdf;
+}
+
+// urdfdom accepts joints that form a cycle apart from the root (each of its links has a
+// parent, so the root is still the only link without one): no pose could place those links.
+// Found by the urdf fuzz target.
+void CheckConnected(const urdf::ModelInterface& urdf, const std::string& path) {
+  std::set<std::string> reached = {urdf.getRoot()->name};
+  for (std::vector<std::string> frontier = {urdf.getRoot()->name}; !frontier.empty();) {
+    const std::string parent = frontier.back();
+    frontier.pop_back();
+    for (const auto& [name, joint] : urdf.joints_) {
+      if (joint->parent_link_name == parent && reached.insert(joint->child_link_name).second)
+        frontier.push_back(joint->child_link_name);
+    }
+  }
+  for (const auto& [name, link] : urdf.links_) {
+    if (!reached.count(name)) {
+      throw LoadError(path, "link '" + name + "' is not connected to the root link '" +
+                                urdf.getRoot()->name + "' (its joints form a cycle)");
+    }
+  }
+}
+
+Joint MakeJoint(const urdf::Joint& joint, const std::string& path) {
+  Joint out;
+  out.name = joint.name;
+  out.type = ToJointType(joint.type);
+  out.parent_link = joint.parent_link_name;
+  out.child_link = joint.child_link_name;
+  out.T_parent_joint = ToEigen(joint.parent_to_joint_origin_transform);
+  const Eigen::Vector3d axis(joint.axis.x, joint.axis.y, joint.axis.z);
+  if (out.movable() && !(axis.norm() > 0.0)) {
+    throw LoadError(path, "joint '" + joint.name + "' has a zero axis");
+  }
+  out.axis = axis.norm() > 0.0 ? axis.normalized() : Eigen::Vector3d::UnitX();
+  if (joint.limits) {
+    out.lower = joint.limits->lower;
+    out.upper = joint.limits->upper;
+  }
+  return out;
+}
+
+}  // namespace
+
+RobotModel LoadRobotModel(const std::string& path, const RobotModelOptions& options) {
+  CheckReadableFile(path);
+  std::ifstream file(path);
+  std::stringstream xml;
+  xml << file.rdbuf();
+  return ParseRobotModel(xml.str(), path, fs::absolute(fs::path(path)).parent_path().string(),
+                         options);
+}
+
+RobotModel ParseRobotModel(const std::string& xml, const std::string& path,
+                           const std::string& base_dir, const RobotModelOptions& options) {
+  const urdf::ModelInterfaceSharedPtr urdf = ParseUrdf(xml, path);
   // urdfdom's links hold their children by shared_ptr, so a cycle of joints would never be
   // freed: cut every link's ties when done, however this function ends.
   const struct CycleBreaker {
@@ -264,29 +311,11 @@ RobotModel ParseRobotModel(const std::string& xml, const std::string& path,
       }
     }
   } cycle_breaker{urdf};
-  // urdfdom accepts joints that form a cycle apart from the root (each of its links has a
-  // parent, so the root is still the only link without one): no pose could place those links.
-  // Found by the urdf fuzz target.
-  std::set<std::string> reached = {urdf->getRoot()->name};
-  for (std::vector<std::string> frontier = {urdf->getRoot()->name}; !frontier.empty();) {
-    const std::string parent = frontier.back();
-    frontier.pop_back();
-    for (const auto& [name, joint] : urdf->joints_) {
-      if (joint->parent_link_name == parent && reached.insert(joint->child_link_name).second)
-        frontier.push_back(joint->child_link_name);
-    }
-  }
-  for (const auto& [name, link] : urdf->links_) {
-    if (!reached.count(name)) {
-      throw LoadError(path, "link '" + name + "' is not connected to the root link '" +
-                                urdf->getRoot()->name + "' (its joints form a cycle)");
-    }
-  }
-
-  const fs::path urdf_dir(base_dir);
+  CheckConnected(*urdf, path);
   RobotModel model;
   model.name = urdf->getName();
   model.root_link = urdf->getRoot()->name;
+  const fs::path urdf_dir(base_dir);
   for (const auto& [name, link] : urdf->links_) {
     Link out;
     out.name = name;
@@ -295,24 +324,7 @@ RobotModel ParseRobotModel(const std::string& xml, const std::string& path,
         MakeElements(link->collision_array, name, "collision", path, urdf_dir, options);
     model.links.push_back(std::move(out));
   }
-  for (const auto& [name, joint] : urdf->joints_) {
-    Joint out;
-    out.name = name;
-    out.type = ToJointType(joint->type);
-    out.parent_link = joint->parent_link_name;
-    out.child_link = joint->child_link_name;
-    out.T_parent_joint = ToEigen(joint->parent_to_joint_origin_transform);
-    const Eigen::Vector3d axis(joint->axis.x, joint->axis.y, joint->axis.z);
-    if (out.movable() && !(axis.norm() > 0.0)) {
-      throw LoadError(path, "joint '" + name + "' has a zero axis");
-    }
-    out.axis = axis.norm() > 0.0 ? axis.normalized() : Eigen::Vector3d::UnitX();
-    if (joint->limits) {
-      out.lower = joint->limits->lower;
-      out.upper = joint->limits->upper;
-    }
-    model.joints.push_back(std::move(out));
-  }
+  for (const auto& [name, joint] : urdf->joints_) model.joints.push_back(MakeJoint(*joint, path));
   return model;
 }
 

@@ -4,10 +4,11 @@
 
 namespace aar_occlusion {
 
-DynamicReference::DynamicReference(aar_geometry::ReferenceCloud dense,
-                                   const aar_geometry::TriangleMesh& receiver,
+DynamicReference::DynamicReference(const aar_geometry::TriangleMesh& receiver,
+                                   const aar_geometry::ReferenceModelOptions& sampling,
                                    const DynamicReferenceOptions& options)
-    : dense_(std::move(dense)),
+    : dense_(aar_geometry::SampleReceiver(receiver, sampling)),
+      visibility_tolerance_(sampling.visibility_tolerance),
       options_(options),
       receiver_(std::make_unique<aar_geometry::VisibilityTester>(receiver)) {
   if (dense_.size() == 0) throw std::invalid_argument("DynamicReference: no reference samples");
@@ -43,8 +44,7 @@ DynamicReferenceResult DynamicReference::Build(const Eigen::Isometry3d& T_tanker
   if (moved) {
     std::vector<bool> seen[2];
     for (int e = 0; e < 2; ++e) {
-      seen[e] =
-          receiver_->Visible(dense_.points, dense_.normals, eyes[e], options_.visibility_tolerance);
+      seen[e] = receiver_->Visible(dense_.points, dense_.normals, eyes[e], visibility_tolerance_);
       shelled_eyes_[e] = eyes[e];
     }
     std::vector<bool> keep(dense_.size(), false);

@@ -87,8 +87,8 @@ OcclusionStep::OcclusionStep(const OcclusionStepOptions& options,
   if (options_.build_reference) {
     if (receiver == nullptr)
       throw std::invalid_argument("OcclusionStep: a dynamic reference needs the receiver mesh");
-    reference_ = std::make_unique<DynamicReference>(
-        aar_geometry::SampleReceiver(*receiver, options_.sampling), *receiver, options_.reference);
+    reference_ =
+        std::make_unique<DynamicReference>(*receiver, options_.sampling, options_.reference);
   }
 }
 
@@ -129,27 +129,43 @@ OcclusionResult OcclusionStep::Process(const OcclusionInput& in) {
     }
   }
   const std::vector<Eigen::Vector3d>& points = r.out_of_range > 0 ? kept_in_range : in.points;
-  // Place the boom; without it this frame passes through unculled.
-  if (!UsesBoom(in.volumes_wanted)) {
-    // Nothing to do with the boom: the cloud passes through as configured.
-  } else if (!boom_) {
-    r.cull_error = boom_error_;
+  PlaceBoom(in, &r);
+  SplitBoomAndGate(points, in, &r);
+  CullPropellers(points, in, &r);
+  if (reference_) BuildReference(points, in, &r);
+  if (r.out_of_range > 0) {  // indices into in.points, as promised
+    for (auto* indices : {&r.kept, &r.removed}) {
+      for (size_t& i : *indices) i = in_range[i];
+    }
+  }
+  return r;
+}
+
+// The boom at this frame's link poses; without it this frame passes through unculled.
+void OcclusionStep::PlaceBoom(const OcclusionInput& in, OcclusionResult* r) {
+  if (!UsesBoom(in.volumes_wanted)) return;  // the cloud passes through as configured
+  if (!boom_) {
+    r->cull_error = boom_error_;
   } else if (const std::string missing = MissingLink(boom_->links(), in.T_tanker_links);
              !missing.empty()) {
-    r.cull_error =
+    r->cull_error =
         in.links_error.empty() ? "no pose for boom link '" + missing + "'" : in.links_error;
   } else {
     try {
-      r.volumes_rebuilt = boom_->Update(in.T_tanker_links, in.left_eye, in.right_eye);
-      r.boom_placed = true;
+      r->volumes_rebuilt = boom_->Update(in.T_tanker_links, in.left_eye, in.right_eye);
+      r->boom_placed = true;
     } catch (const std::exception& e) {
-      r.cull_error = e.what();
+      r->cull_error = e.what();
     }
   }
+}
 
+// Each point boom (removed) or kept; with gate_receiver and an estimate, points outside its
+// grown receiver box are gated out. Boom points stay boom points (shown as such).
+void OcclusionStep::SplitBoomAndGate(const std::vector<Eigen::Vector3d>& points,
+                                     const OcclusionInput& in, OcclusionResult* r) {
   std::vector<bool> is_boom(points.size(), false);
-  if (r.boom_placed) is_boom = boom_->Cull(points, options_.cull);
-  // Boom points stay boom points (shown as such); the gate takes the rest outside the box.
+  if (r->boom_placed) is_boom = boom_->Cull(points, options_.cull);
   const bool gate = options_.gate_receiver && in.T_tanker_receiver_predicted;
   const Eigen::Isometry3d T_receiver_tanker =
       gate ? in.T_tanker_receiver_predicted->inverse() : Eigen::Isometry3d::Identity();
@@ -158,56 +174,56 @@ OcclusionResult OcclusionStep::Process(const OcclusionInput& in) {
     if (!is_boom[i] && gate &&
         !InGate(receiver_box_, eye_in_receiver, T_receiver_tanker * points[i],
                 options_.gate_depth_coefficient * (points[i] - in.left_eye).squaredNorm())) {
-      ++r.gated;
+      ++r->gated;
       continue;
     }
-    (is_boom[i] ? r.removed : r.kept).push_back(i);
+    (is_boom[i] ? r->removed : r->kept).push_back(i);
   }
+}
 
-  // The propellers at the estimate's pose (not the seed's: it knows no attitude).
-  if (options_.cull_propellers && in.T_tanker_receiver_predicted && !options_.propellers.empty()) {
-    std::vector<PropellerDisc> discs = options_.propellers;
-    for (PropellerDisc& d : discs) {
-      d.hub = *in.T_tanker_receiver_predicted * d.hub;
-      d.axis = in.T_tanker_receiver_predicted->linear() * d.axis.normalized();
-    }
-    std::vector<size_t> kept;
-    for (const size_t i : r.kept) {
-      const bool on = OnPropeller(in.left_eye, points[i], discs, options_.propeller_margin,
-                                  options_.propeller_depth_margin);
-      (on ? r.removed : kept).push_back(i);
-      r.propeller_points += on;
-    }
-    r.kept = std::move(kept);
+// The propellers at the estimate's pose (not the seed's: it knows no attitude).
+void OcclusionStep::CullPropellers(const std::vector<Eigen::Vector3d>& points,
+                                   const OcclusionInput& in, OcclusionResult* r) const {
+  if (!options_.cull_propellers || !in.T_tanker_receiver_predicted || options_.propellers.empty())
+    return;
+  std::vector<PropellerDisc> discs = options_.propellers;
+  for (PropellerDisc& d : discs) {
+    d.hub = *in.T_tanker_receiver_predicted * d.hub;
+    d.axis = in.T_tanker_receiver_predicted->linear() * d.axis.normalized();
   }
+  std::vector<size_t> kept;
+  for (const size_t i : r->kept) {
+    const bool on = OnPropeller(in.left_eye, points[i], discs, options_.propeller_margin,
+                                options_.propeller_depth_margin);
+    (on ? r->removed : kept).push_back(i);
+    r->propeller_points += on;
+  }
+  r->kept = std::move(kept);
+}
 
-  if (reference_) {
-    std::optional<Eigen::Isometry3d> T_tanker_receiver = in.T_tanker_receiver_predicted;
-    if (!T_tanker_receiver && !r.kept.empty()) {
-      std::vector<Eigen::Vector3d> kept_points;
-      for (const size_t i : r.kept) kept_points.push_back(points[i]);
-      if (options_.seed_densest_ball && receiver_radius_ > 0.0)
-        kept_points = aar_geometry::DensestBall(kept_points, receiver_radius_);
-      T_tanker_receiver = aar_geometry::CentroidSeed(kept_points, {Eigen::Vector3d::Zero()});
-    }
-    try {
-      if (!T_tanker_receiver) throw std::runtime_error("no predicted pose: no estimate, no points");
-      r.T_tanker_receiver = *T_tanker_receiver;
-      r.reference = r.boom_placed
-                        ? reference_->Build(*T_tanker_receiver, *boom_)
-                        : reference_->Build(*T_tanker_receiver, in.left_eye, in.right_eye);
-      r.has_reference = true;
-    } catch (const std::exception& e) {
-      r.reference_error = e.what();
-      r.reference = DynamicReferenceResult{};
-    }
+// The dynamic reference at the predicted pose: the estimate's, else the centroid seed of the
+// kept points.
+void OcclusionStep::BuildReference(const std::vector<Eigen::Vector3d>& points,
+                                   const OcclusionInput& in, OcclusionResult* r) {
+  std::optional<Eigen::Isometry3d> T_tanker_receiver = in.T_tanker_receiver_predicted;
+  if (!T_tanker_receiver && !r->kept.empty()) {
+    std::vector<Eigen::Vector3d> kept_points;
+    for (const size_t i : r->kept) kept_points.push_back(points[i]);
+    if (options_.seed_points == aar_geometry::SeedPoints::kDensestBall && receiver_radius_ > 0.0)
+      kept_points = aar_geometry::DensestBall(kept_points, receiver_radius_);
+    T_tanker_receiver = aar_geometry::CentroidSeed(kept_points, {Eigen::Vector3d::Zero()});
   }
-  if (r.out_of_range > 0) {  // indices into in.points, as promised
-    for (auto* indices : {&r.kept, &r.removed}) {
-      for (size_t& i : *indices) i = in_range[i];
-    }
+  try {
+    if (!T_tanker_receiver) throw std::runtime_error("no predicted pose: no estimate, no points");
+    r->T_tanker_receiver = *T_tanker_receiver;
+    r->reference = r->boom_placed
+                       ? reference_->Build(*T_tanker_receiver, *boom_)
+                       : reference_->Build(*T_tanker_receiver, in.left_eye, in.right_eye);
+    r->has_reference = true;
+  } catch (const std::exception& e) {
+    r->reference_error = e.what();
+    r->reference = DynamicReferenceResult{};
   }
-  return r;
 }
 
 }  // namespace aar_occlusion

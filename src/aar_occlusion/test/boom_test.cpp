@@ -276,7 +276,7 @@ TEST(DynamicReference, TheBoomHidesPartOfTheReceiverAtContact) {
   const TriangleMesh receiver = aar_geometry::LoadMesh(kModels + "/receiver.obj");
   aar_geometry::ReferenceModelOptions sampling;
   sampling.points_per_m2 = 150.0;
-  DynamicReference reference(aar_geometry::SampleReceiver(receiver, sampling), receiver);
+  DynamicReference reference(receiver, sampling);
   const Eigen::Isometry3d T_tanker_receiver =
       aar_geometry::MakeTransform({-35.0, 0.0, -10.19}, {0.0, -2.0 * M_PI / 180.0, 0.0});
   const auto without = reference.Build(T_tanker_receiver, s.eyes[0], s.eyes[1]);

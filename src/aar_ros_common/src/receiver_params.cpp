@@ -29,4 +29,11 @@ aar_description::ReceiverDescription LoadReceiverModel(
   return receiver;
 }
 
+aar_geometry::SeedPoints LoadSeedPoints(ParamReader& params) {
+  return params.GetChoice<aar_geometry::SeedPoints>(
+      "seed_points", "all",
+      {{"all", aar_geometry::SeedPoints::kAll},
+       {"densest_ball", aar_geometry::SeedPoints::kDensestBall}});
+}
+
 }  // namespace aar_ros_common

@@ -8,6 +8,7 @@
 
 #include "aar_ros_common/param_reader.h"
 #include "aar_ros_common/receiver_params.h"
+#include "aar_ros_common/robot_description.h"
 
 namespace aar_ros_common {
 namespace {
@@ -91,6 +92,36 @@ TEST(ReceiverModel, ReadsOverTheCallersDefaults) {
   EXPECT_NE(receiver.path.find("aar_description/models/c12.yaml"), std::string::npos)
       << receiver.path;
   EXPECT_EQ(ErrorOf([&] { params.RejectUnknown(); }), "");
+}
+
+// The boom's URDF is found from the root namespace (occlusion and registration run there), by
+// searching up from a namespace below it (stereo's), with package:// meshes found by rospack; a
+// parameter that is nowhere is named.
+TEST(RobotDescription, FoundFromTheRootAndFromBelowItNamedWhenMissing) {
+  for (const std::string ns : {"/", "/stereo", "/stereo/aar_stereo"}) {
+    try {
+      const aar_geometry::RobotModel boom =
+          LoadRobotDescription(ros::NodeHandle(ns), "robot_description");
+      ASSERT_FALSE(boom.links.empty()) << ns;
+      size_t meshes = 0;
+      for (const auto& link : boom.links) {
+        for (const auto& v : link.visuals) {
+          if (v.source.find("aar_description/models/") == std::string::npos) continue;
+          EXPECT_TRUE(std::filesystem::exists(v.source)) << v.source;
+          meshes += !v.mesh.vertices.empty();
+        }
+      }
+      EXPECT_GT(meshes, 0u) << ns << ": no package:// mesh loaded";
+    } catch (const std::exception& e) {
+      ADD_FAILURE() << ns << ": " << e.what();
+    }
+  }
+  try {
+    LoadRobotDescription(ros::NodeHandle("/nowhere"), "no_such_urdf");
+    ADD_FAILURE() << "a missing URDF parameter was taken";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("/nowhere/no_such_urdf"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace

@@ -206,6 +206,27 @@ SparseMatchOptions ToSparseOptions(const StereoOptions& o) {
   return s;
 }
 
+// Reprojection of the matched pixels (row-major indices): [x y z w] = Q [u v d 1], by hand
+// (cv::reprojectImageTo3D's arithmetic); disparities at or below 0 (infinity) and points beyond
+// max_range are left out.
+void Reproject(const cv::Mat& disparity, const std::vector<int>& pixels, const cv::Matx44d& Q,
+               double max_range, std::vector<Eigen::Vector3f>* points,
+               std::vector<int>* pixel_of_point) {
+  points->reserve(pixels.size());
+  for (int px : pixels) {
+    const int v = px / disparity.cols, u = px % disparity.cols;
+    const double d = disparity.ptr<float>(v)[u];
+    if (d <= 0.0) continue;
+    const double w = Q(3, 2) * d + Q(3, 3);
+    const Eigen::Vector3f p(static_cast<float>((u * Q(0, 0) + Q(0, 3)) / w),
+                            static_cast<float>((v * Q(1, 1) + Q(1, 3)) / w),
+                            static_cast<float>(Q(2, 3) / w));
+    if (!(p.z() <= max_range)) continue;
+    points->push_back(p);
+    pixel_of_point->push_back(px);
+  }
+}
+
 }  // namespace
 
 void StereoProcessor::MatchDense(const cv::Mat& left, const cv::Mat& right, const cv::Rect& roi,
@@ -279,23 +300,9 @@ StereoResult StereoProcessor::Process(const cv::Mat& left, const cv::Mat& right,
   }
   const auto t1 = Clock::now();
 
-  // Reprojection: [x y z w] = Q [u v d 1], by hand (cv::reprojectImageTo3D's arithmetic).
-  const cv::Matx44d Q = geometry.Q();
   std::vector<Eigen::Vector3f> points;
   std::vector<int> pixel_of_point;
-  points.reserve(pixels.size());
-  for (int px : pixels) {
-    const int v = px / left.cols, u = px % left.cols;
-    const double d = result.disparity.ptr<float>(v)[u];
-    if (d <= 0.0) continue;  // disparities at or below 0 are at infinity
-    const double w = Q(3, 2) * d + Q(3, 3);
-    const Eigen::Vector3f p(static_cast<float>((u * Q(0, 0) + Q(0, 3)) / w),
-                            static_cast<float>((v * Q(1, 1) + Q(1, 3)) / w),
-                            static_cast<float>(Q(2, 3) / w));
-    if (!(p.z() <= o.max_range)) continue;
-    points.push_back(p);
-    pixel_of_point.push_back(px);
-  }
+  Reproject(result.disparity, pixels, geometry.Q(), o.max_range, &points, &pixel_of_point);
   result.valid_pixels = static_cast<int>(points.size());
   const auto t2 = Clock::now();
   Decimate(left, points, pixel_of_point, result.sparse, &result.cloud);

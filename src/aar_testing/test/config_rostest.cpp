@@ -12,6 +12,7 @@
 #include <aar_eval/ros/eval_node.h>
 #include <aar_occlusion/ros/occlusion_node.h>
 #include <aar_registration/ros/registration_node.h>
+#include <aar_ros_common/param_reader.h>
 #include <aar_sim/ros/sim_node.h>
 #include <aar_stereo/ros/stereo_node.h>
 #include <ros/ros.h>
@@ -67,14 +68,14 @@ TEST(Config, EveryExperimentLoadsIntoEveryNode) {
       }
       if (robust) {  // tracking, with a robust seed and the propellers culled
         EXPECT_EQ(registration.registrar.seed_points, aar_registration::SeedPoints::kDensestBall);
-        EXPECT_TRUE(occlusion.step.seed_densest_ball);
+        EXPECT_EQ(occlusion.step.seed_points, aar_geometry::SeedPoints::kDensestBall);
         EXPECT_TRUE(occlusion.step.cull_propellers);
         EXPECT_EQ(occlusion.step.propellers.size(), 2u);  // the C-12's, from its description
         EXPECT_TRUE(occlusion.step.gate_receiver);
         EXPECT_EQ(occlusion.step.gate_margin, 3.0);
       } else {
         EXPECT_EQ(registration.registrar.seed_points, aar_registration::SeedPoints::kAll) << name;
-        EXPECT_FALSE(occlusion.step.seed_densest_ball) << name;
+        EXPECT_EQ(occlusion.step.seed_points, aar_geometry::SeedPoints::kAll) << name;
         EXPECT_FALSE(occlusion.step.cull_propellers) << name;
         EXPECT_FALSE(occlusion.step.gate_receiver) << name;
       }
@@ -184,6 +185,84 @@ TEST(Config, StereoAndEvalLoadAsTheLaunchFilesGiveThem) {
     EXPECT_NE(std::string(e.what()).find("/stereo/aar_stereo/block_sise"), std::string::npos)
         << e.what();
   }
+}
+
+// config/registration.yaml documents every key at the options struct's value: loading it changes
+// nothing (the experiments' results do not depend on whether a launch loads it).
+TEST(Config, RegistrationYamlHoldsTheStructsDefaults) {
+  aar_ros_common::ParamReader none(XmlRpc::XmlRpcValue(), "/none");
+  const auto bare = aar_registration::LoadRegistrationNodeOptions(none);
+  const auto yaml = aar_registration::LoadRegistrationNodeOptions(ros::NodeHandle("/registration"));
+  const auto &b = bare.registrar, &y = yaml.registrar;
+  EXPECT_EQ(y.reference, b.reference);
+  EXPECT_EQ(y.sampling.points_per_m2, b.sampling.points_per_m2);
+  EXPECT_EQ(y.sampling.seed, b.sampling.seed);
+  EXPECT_EQ(y.sampling.visibility_tolerance, b.sampling.visibility_tolerance);
+  EXPECT_TRUE(y.T_tanker_receiver_nominal.isApprox(b.T_tanker_receiver_nominal, 0.0));
+  EXPECT_EQ(y.icp.metric, b.icp.metric);
+  EXPECT_EQ(y.icp.max_iterations, b.icp.max_iterations);
+  EXPECT_EQ(y.icp.max_correspondence_distance, b.icp.max_correspondence_distance);
+  EXPECT_EQ(y.icp.min_rms_improvement, b.icp.min_rms_improvement);
+  EXPECT_EQ(y.icp.stop_on_rms_rise, b.icp.stop_on_rms_rise);
+  EXPECT_EQ(y.icp.rms_epsilon, b.icp.rms_epsilon);
+  EXPECT_EQ(y.icp.independent_correspondences, b.icp.independent_correspondences);
+  EXPECT_EQ(y.icp.stereo.ray_sigma_coefficient, b.icp.stereo.ray_sigma_coefficient);
+  EXPECT_EQ(y.icp.stereo.plane_sigma, b.icp.stereo.plane_sigma);
+  EXPECT_EQ(y.icp.stereo.ray_reach, b.icp.stereo.ray_reach);
+  EXPECT_EQ(y.seed, b.seed);
+  EXPECT_EQ(y.seed_points, b.seed_points);
+  EXPECT_EQ(y.previous_max_age, b.previous_max_age);
+  EXPECT_EQ(y.max_sensed_points, b.max_sensed_points);
+  EXPECT_EQ(y.subsample_seed, b.subsample_seed);
+  EXPECT_EQ(y.max_cloud_points, b.max_cloud_points);
+  EXPECT_EQ(y.track, b.track);
+  EXPECT_EQ(y.gate.min_fitness, b.gate.min_fitness);
+  EXPECT_EQ(y.gate.max_rms, b.gate.max_rms);
+  EXPECT_EQ(y.tracker.acceleration_sigma, b.tracker.acceleration_sigma);
+  EXPECT_EQ(y.tracker.angular_acceleration_sigma, b.tracker.angular_acceleration_sigma);
+  EXPECT_EQ(y.tracker.initial_velocity_sigma, b.tracker.initial_velocity_sigma);
+  EXPECT_EQ(y.tracker.initial_angular_velocity_sigma, b.tracker.initial_angular_velocity_sigma);
+  EXPECT_EQ(y.tracker.gate_chi2, b.tracker.gate_chi2);
+  EXPECT_EQ(y.tracker.max_rejections, b.tracker.max_rejections);
+  EXPECT_EQ(y.tracker.max_coast_s, b.tracker.max_coast_s);
+  const auto &yo = y.outline, &bo = b.outline;
+  EXPECT_EQ(yo.enabled, bo.enabled);
+  EXPECT_EQ(yo.min_quality, bo.min_quality);
+  EXPECT_EQ(yo.max_poor_frames, bo.max_poor_frames);
+  EXPECT_EQ(yo.start_candidates, bo.start_candidates);
+  EXPECT_EQ(yo.maneuver_quality, bo.maneuver_quality);
+  EXPECT_EQ(yo.start_sigma_position, bo.start_sigma_position);
+  EXPECT_EQ(yo.start_sigma_rotation, bo.start_sigma_rotation);
+  EXPECT_EQ(yo.disparity_sigma, bo.disparity_sigma);
+  EXPECT_EQ(yo.image_start, bo.image_start);
+  EXPECT_EQ(yo.image_start_quality, bo.image_start_quality);
+  EXPECT_EQ(yo.acquisition.min_range, bo.acquisition.min_range);
+  EXPECT_EQ(yo.acquisition.max_range, bo.acquisition.max_range);
+  EXPECT_EQ(yo.acquisition.range_step, bo.acquisition.range_step);
+  EXPECT_EQ(yo.acquisition.min_visible, bo.acquisition.min_visible);
+  EXPECT_EQ(yo.alignment.contour_points, bo.alignment.contour_points);
+  EXPECT_EQ(yo.alignment.line_model, bo.alignment.line_model);
+  EXPECT_EQ(yo.alignment.search_radius_px, bo.alignment.search_radius_px);
+  EXPECT_EQ(yo.alignment.covariance_scale, bo.alignment.covariance_scale);
+  const auto &yc = yaml.common, &bc = bare.common;
+  EXPECT_EQ(yc.frames.tanker, bc.frames.tanker);
+  EXPECT_EQ(yc.frames.receiver, bc.frames.receiver);
+  EXPECT_EQ(yc.frames.left_camera, bc.frames.left_camera);
+  EXPECT_EQ(yc.frames.right_camera, bc.frames.right_camera);
+  EXPECT_EQ(yc.robot_description, bc.robot_description);
+  EXPECT_EQ(yc.tf_timeout, bc.tf_timeout);
+  EXPECT_EQ(yc.tf_fallback_age, bc.tf_fallback_age);
+  EXPECT_EQ(yc.diagnostic_period, bc.diagnostic_period);
+  EXPECT_EQ(yaml.model_boom, bare.model_boom);
+  EXPECT_EQ(yaml.truth_frame, bare.truth_frame);
+  EXPECT_EQ(yaml.newest_wins, bare.newest_wins);
+  EXPECT_EQ(yaml.reference_timeout, bare.reference_timeout);
+  EXPECT_EQ(yaml.max_stamp_lead, bare.max_stamp_lead);
+  // Registration reads no estimate: estimate_max_age is not one of its keys.
+  ros::NodeHandle("/registration").setParam("estimate_max_age", 1.0);
+  EXPECT_THROW(aar_registration::LoadRegistrationNodeOptions(ros::NodeHandle("/registration")),
+               std::invalid_argument);
+  ros::NodeHandle("/registration").deleteParam("estimate_max_age");
 }
 
 // Every realism preset in config/realism/ loads into the simulator over config/sim.yaml, as
@@ -412,16 +491,13 @@ TEST(Config, FlightHoldsTrackingOutlinesSettings) {
   EXPECT_FALSE(static_cast<bool>(no_boom["registration"]["model_boom"]));
   EXPECT_FALSE(static_cast<bool>(no_boom["stereo"]["aar_stereo"]["roi_include_boom"]));
   no_boom["sim"]["boom"] = true;
-  XmlRpc::XmlRpcValue occlusion, registration;
+  XmlRpc::XmlRpcValue occlusion;
   for (auto& [key, value] : no_boom["occlusion"]) {
     if (key != "model_boom") occlusion[key] = value;
   }
-  for (auto& [key, value] : no_boom["registration"]) {
-    if (key != "model_boom") registration[key] = value;
-  }
+  no_boom["registration"]["model_boom"] = true;                // config/registration.yaml's
   no_boom["stereo"]["aar_stereo"]["roi_include_boom"] = true;  // config/stereo.yaml's
   no_boom["occlusion"] = occlusion;
-  no_boom["registration"] = registration;
   // (Compared as text, not printed: a parameter tree is pages long.)
   EXPECT_TRUE(no_boom.toXml() == flight.toXml()) << "flight_no_boom differs from flight";
 }

@@ -30,10 +30,8 @@ int main(int argc, char** argv) {
     // Two reference densities: the default (400 samples per m^2) and about 20k samples.
     aar_geometry::ReferenceModelOptions dense_options, light_options;
     light_options.points_per_m2 = 127.0;
-    DynamicReference dense(aar_geometry::SampleReceiver(world.receiver_mesh(), dense_options),
-                           world.receiver_mesh());
-    DynamicReference light(aar_geometry::SampleReceiver(world.receiver_mesh(), light_options),
-                           world.receiver_mesh());
+    DynamicReference dense(world.receiver_mesh(), dense_options);
+    DynamicReference light(world.receiver_mesh(), light_options);
 
     std::printf("boom: %zu convex parts; reference samples: %zu (400/m^2) and %zu (127/m^2)\n",
                 boom.parts().size(), dense.size(), light.size());
@@ -72,8 +70,7 @@ int main(int argc, char** argv) {
       // Self-occlusion kept (the eyes moved less than reshell_distance): the boom classes only.
       DynamicReferenceOptions cached_options;
       cached_options.reshell_distance = 0.5;
-      DynamicReference cached(aar_geometry::SampleReceiver(world.receiver_mesh(), light_options),
-                              world.receiver_mesh(), cached_options);
+      DynamicReference cached(world.receiver_mesh(), light_options, cached_options);
       cached.Build(T, boom);
       const double ref127c_ms = MedianMs(repeats, [&] { cached.Build(T, boom); });
       const double stage = build_ms + vol_ms + ref127_ms;

@@ -79,6 +79,11 @@ Eigen::Isometry3d CentroidSeed(const std::vector<Eigen::Vector3d>& sensed_in_tan
 std::vector<Eigen::Vector3d> DensestBall(const std::vector<Eigen::Vector3d>& points, double radius,
                                          int candidates = 256);
 
+// Which sensed points a centroid seed takes (occlusion's predicted pose without an estimate,
+// registration's seed): all (thesis), or those in the densest ball of the reference's size
+// (DensestBall; ours), which far clutter does not drag.
+enum class SeedPoints { kAll, kDensestBall };
+
 // Half the diagonal of the points' bounding box [m]: the radius of a ball that holds a model
 // centred on it (0 for fewer than two points).
 double HalfDiagonal(const std::vector<Eigen::Vector3d>& points);

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <functional>
 #include <map>
 #include <string>
 #include <vector>
@@ -62,8 +63,11 @@ struct RobotModel {
 struct RobotModelOptions {
   int cylinder_segments = 32;   // facets around URDF cylinders
   int sphere_subdivisions = 2;  // icosphere level of URDF spheres (320 triangles)
-  // Roots searched for package://NAME/... : a folder whose package.xml says <name>NAME</name>,
-  // the root itself or up to four folders below it. Empty: the folders of ROS_PACKAGE_PATH.
+  // Where package://NAME/... is: find_package(NAME), the package's folder ("" if unknown); ROS
+  // nodes set rospack's (aar_ros_common::LoadRobotDescription). Unset: package_paths are
+  // searched for a folder whose package.xml says <name>NAME</name>, the root itself or up to four
+  // folders below it; empty, the folders of ROS_PACKAGE_PATH (tools and tests without ROS).
+  std::function<std::string(const std::string&)> find_package;
   std::vector<std::string> package_paths;
 };
 

@@ -11,7 +11,6 @@
 namespace aar_occlusion {
 
 struct DynamicReferenceOptions {
-  double visibility_tolerance = 0.01;  // [m] self-occlusion: hits closer than this do not hide
   // [m] self-occlusion is recomputed when an eye, seen from the receiver, has moved farther than
   // this since the last computation; 0 recomputes it every frame.
   double reshell_distance = 0.0;
@@ -28,9 +27,11 @@ struct DynamicReferenceResult {
 
 class DynamicReference {
  public:
-  // `dense`: samples of `receiver`, both in the receiver frame. Throws std::invalid_argument for
-  // an empty cloud.
-  DynamicReference(aar_geometry::ReferenceCloud dense, const aar_geometry::TriangleMesh& receiver,
+  // Samples `receiver` (receiver frame) with `sampling`, whose visibility_tolerance is also the
+  // self-occlusion's: hits closer than it to a sample do not hide it. Throws
+  // std::invalid_argument when the sampling gives no points.
+  DynamicReference(const aar_geometry::TriangleMesh& receiver,
+                   const aar_geometry::ReferenceModelOptions& sampling,
                    const DynamicReferenceOptions& options = {});
   ~DynamicReference();
 
@@ -51,6 +52,7 @@ class DynamicReference {
                                const BoomOcclusion* boom);
 
   aar_geometry::ReferenceCloud dense_;
+  double visibility_tolerance_;  // [m]
   DynamicReferenceOptions options_;
   std::unique_ptr<aar_geometry::VisibilityTester> receiver_;
   bool shelled_ = false;

@@ -42,10 +42,10 @@ struct OcclusionStepOptions {
   // [m] points farther than this from the left eye are no measurement (the stereo stage cuts at
   // 750 m, as the thesis): dropped from the cloud before anything else sees them.
   double max_point_range = 1000.0;
-  // The predicted pose before any estimate: the centroid of the kept points (thesis), or of those
-  // in the densest ball of the receiver's size (aar_geometry::DensestBall; ours), which far
-  // clutter does not drag. Registration's seed_points, the same choice.
-  bool seed_densest_ball = false;
+  // The predicted pose before any estimate: the centroid of the kept points (kAll, thesis), or of
+  // those in the densest ball of the receiver's size (kDensestBall; ours). Registration's
+  // seed_points, the same choice.
+  aar_geometry::SeedPoints seed_points = aar_geometry::SeedPoints::kAll;
   // Spinning propellers (not in the thesis): with an estimate to place them, the points seen
   // through a disc (a ray from the left eye crossing it between hub_radius + margin and
   // radius + margin) within propeller_depth_margin of it along the ray leave the cloud as the
@@ -128,12 +128,20 @@ class OcclusionStep {
  private:
   // Culling, the reference or someone showing the volumes needs the boom placed.
   bool UsesBoom(bool volumes_wanted) const;
+  // Process's steps, in order, over the points in range.
+  void PlaceBoom(const OcclusionInput& in, OcclusionResult* r);
+  void SplitBoomAndGate(const std::vector<Eigen::Vector3d>& points, const OcclusionInput& in,
+                        OcclusionResult* r);
+  void CullPropellers(const std::vector<Eigen::Vector3d>& points, const OcclusionInput& in,
+                      OcclusionResult* r) const;
+  void BuildReference(const std::vector<Eigen::Vector3d>& points, const OcclusionInput& in,
+                      OcclusionResult* r);
 
   OcclusionStepOptions options_;
   std::unique_ptr<BoomOcclusion> boom_;
   std::string boom_error_;  // why boom_ is null, naming the link
   std::unique_ptr<DynamicReference> reference_;
-  double receiver_radius_ = 0.0;      // [m] half the receiver's box diagonal (seed_densest_ball)
+  double receiver_radius_ = 0.0;      // [m] half the receiver's box diagonal (kDensestBall)
   Eigen::AlignedBox3d receiver_box_;  // [m] receiver frame, grown by gate_margin (gate_receiver)
 };
 

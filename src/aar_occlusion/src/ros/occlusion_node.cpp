@@ -8,6 +8,7 @@
 #include <aar_geometry/mesh_io.h>
 #include <aar_ros_common/point_cloud.h>
 #include <aar_ros_common/receiver_params.h>
+#include <aar_ros_common/robot_description.h>
 #include <aar_ros_common/start_count.h>
 #include <aar_ros_common/tf_bridge.h>
 
@@ -25,14 +26,11 @@ OcclusionNode::OcclusionNode(ros::NodeHandle nh, ros::NodeHandle private_nh,
   // The boom: a refused model is reported and every frame passes through unculled.
   std::optional<aar_geometry::RobotModel> boom;
   std::string boom_error;
-  std::string urdf;
   if (!options_.step.model_boom) {
     ROS_INFO("occlusion: model_boom is false: no boom, nothing culled, self-occlusion only");
-  } else if (!nh_.getParam(options_.robot_description, urdf)) {
-    boom_error = "no boom URDF in parameter " + nh_.resolveName(options_.robot_description);
   } else {
     try {
-      boom = aar_geometry::ParseRobotModel(urdf, nh_.resolveName(options_.robot_description), "");
+      boom = aar_ros_common::LoadRobotDescription(nh_, options_.common.robot_description);
     } catch (const std::exception& e) {
       boom_error = e.what();
     }
@@ -58,11 +56,12 @@ OcclusionNode::OcclusionNode(ros::NodeHandle nh, ros::NodeHandle private_nh,
   diagnostics_.setHardwareID("boom occlusion");
   diagnostics_.add("occlusion", this, &OcclusionNode::Diagnose);
   // Wall time: simulated time stands still in lockstep, and the status matters most then.
-  diagnostics_timer_ = nh_.createWallTimer(
-      ros::WallDuration(1.0), [this](const ros::WallTimerEvent&) { diagnostics_.force_update(); });
+  diagnostics_timer_ =
+      nh_.createWallTimer(ros::WallDuration(options_.common.diagnostic_period),
+                          [this](const ros::WallTimerEvent&) { diagnostics_.force_update(); });
   if (options_.extrapolate_estimate) {
     estimates_ = std::make_unique<aar_ros_common::EstimateListener>(nh_, "aar/pose_estimate",
-                                                                    options_.frames.tanker);
+                                                                    options_.common.frames.tanker);
   }
   if (options_.newest_wins) {
     stage_ = std::make_unique<aar_ros_common::NewestWins<sensor_msgs::PointCloud2::ConstPtr>>(
@@ -85,9 +84,9 @@ OcclusionNode::~OcclusionNode() {
 
 std::optional<Eigen::Isometry3d> OcclusionNode::Lookup(const std::string& frame,
                                                        const ros::Time& stamp, std::string* error) {
-  return aar_ros_common::LookupTransformOrLatest(tf_buffer_, options_.frames.tanker, frame, stamp,
-                                                 options_.tf_timeout, options_.tf_fallback_age,
-                                                 "the cloud's stamp", error);
+  return aar_ros_common::LookupTransformOrLatest(
+      tf_buffer_, options_.common.frames.tanker, frame, stamp, options_.common.tf_timeout,
+      options_.common.tf_fallback_age, "the cloud's stamp", error);
 }
 
 // The latest estimate as the predicted pose (moved on to `stamp` with extrapolate_estimate), once
@@ -97,17 +96,18 @@ std::optional<Eigen::Isometry3d> OcclusionNode::PredictedPose(const ros::Time& s
   if (estimates_) {
     if (previous_stamp_ && options_.estimate_wait > 0.0)
       estimates_->WaitFor(*previous_stamp_, options_.estimate_wait);
-    const auto p = estimates_->Predict(stamp, options_.estimate_max_age);
+    const auto p = estimates_->Predict(stamp, options_.common.estimate_max_age);
     if (!p) return std::nullopt;
     return p->T_tanker_receiver;
   }
   if (previous_stamp_) {
-    aar_ros_common::WaitForTransform(tf_buffer_, options_.frames.tanker, options_.frames.receiver,
-                                     *previous_stamp_, options_.estimate_wait);
+    aar_ros_common::WaitForTransform(tf_buffer_, options_.common.frames.tanker,
+                                     options_.common.frames.receiver, *previous_stamp_,
+                                     options_.estimate_wait);
   }
-  return aar_ros_common::LatestTransform(tf_buffer_, options_.frames.tanker,
-                                         options_.frames.receiver, stamp,
-                                         options_.estimate_max_age);
+  return aar_ros_common::LatestTransform(tf_buffer_, options_.common.frames.tanker,
+                                         options_.common.frames.receiver, stamp,
+                                         options_.common.estimate_max_age);
 }
 
 void OcclusionNode::OnCloud(const sensor_msgs::PointCloud2::ConstPtr& msg) {
@@ -140,33 +140,12 @@ void OcclusionNode::Cull(const sensor_msgs::PointCloud2::ConstPtr& msg) {
   boom_points.point_step = msg->point_step;
   boom_points.height = 1;
   std_msgs::Header reference_header = msg->header;
-  reference_header.frame_id = options_.frames.receiver;
+  reference_header.frame_id = options_.common.frames.receiver;
   OcclusionResult result;  // no reference: registration gets no target and skips the frame
 
   try {
     const aar_ros_common::CloudPoints cloud = aar_ros_common::FromCloud(*msg);
-    const auto T_tanker_cloud = Lookup(msg->header.frame_id, msg->header.stamp, &error);
-    const auto T_left = Lookup(options_.frames.left_camera, msg->header.stamp, &error);
-    const auto T_right = Lookup(options_.frames.right_camera, msg->header.stamp, &error);
-    if (!T_tanker_cloud || !T_left || !T_right) throw std::runtime_error(error);
-    OcclusionInput in;
-    in.points = cloud.points;
-    for (auto& p : in.points) p = *T_tanker_cloud * p;
-    in.left_eye = T_left->translation();
-    in.right_eye = T_right->translation();
-    in.volumes_wanted = markers_pub_.getNumSubscribers() > 0;
-    if (step_->NeedsLinks(in.volumes_wanted)) {
-      // One missing link leaves the boom unplaced: waiting tf_timeout for each of the others
-      // too would put the stage behind the frames for as long as their tf is missing.
-      for (const auto& link : step_->boom_links()) {
-        auto T = Lookup(link, msg->header.stamp, &in.links_error);
-        if (!T) break;
-        in.T_tanker_links[link] = *T;
-      }
-    }
-    if (step_->builds_reference())
-      in.T_tanker_receiver_predicted = PredictedPose(msg->header.stamp);
-
+    const OcclusionInput in = GatherInput(*msg, cloud);
     result = step_->Process(in);
     if (result.out_of_range > 0) {
       ROS_WARN_STREAM_THROTTLE(
@@ -186,7 +165,7 @@ void OcclusionNode::Cull(const sensor_msgs::PointCloud2::ConstPtr& msg) {
 
     if (result.boom_placed && markers_stale_ && in.volumes_wanted) {
       std_msgs::Header h = msg->header;
-      h.frame_id = options_.frames.tanker;
+      h.frame_id = options_.common.frames.tanker;
       markers_pub_.publish(ShadowMarkers(*step_->boom(), h, options_.marker_length));
       markers_stale_ = false;
     }
@@ -207,20 +186,45 @@ void OcclusionNode::Cull(const sensor_msgs::PointCloud2::ConstPtr& msg) {
     reference_pub_.publish(
         boost::make_shared<sensor_msgs::PointCloud2>(ToCloud(result.reference, reference_header)));
   }
-  {
-    std::lock_guard<std::mutex> report(report_mutex_);
-    ++frames_;
-    unculled_frames_ += !error.empty();
-    last_frame_error_ = error;
-    last_reference_error_ = reference_error;
-    reference_failures_ += !reference_error.empty();
-    last_boom_points_ = boom_count;
-    last_propeller_points_ = result.propeller_points;
-    last_gated_points_ = result.gated;
-    last_reference_both_ = result.reference.both;
-    last_ms_ =
-        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  std::lock_guard<std::mutex> report(report_mutex_);
+  ++frames_;
+  unculled_frames_ += !error.empty();
+  last_frame_error_ = error;
+  last_reference_error_ = reference_error;
+  reference_failures_ += !reference_error.empty();
+  last_boom_points_ = boom_count;
+  last_propeller_points_ = result.propeller_points;
+  last_gated_points_ = result.gated;
+  last_reference_both_ = result.reference.both;
+  last_ms_ =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
+OcclusionInput OcclusionNode::GatherInput(const sensor_msgs::PointCloud2& msg,
+                                          const aar_ros_common::CloudPoints& cloud) {
+  std::string error;
+  const ros::Time& stamp = msg.header.stamp;
+  const auto T_tanker_cloud = Lookup(msg.header.frame_id, stamp, &error);
+  const auto T_left = Lookup(options_.common.frames.left_camera, stamp, &error);
+  const auto T_right = Lookup(options_.common.frames.right_camera, stamp, &error);
+  if (!T_tanker_cloud || !T_left || !T_right) throw std::runtime_error(error);
+  OcclusionInput in;
+  in.points = cloud.points;
+  for (auto& p : in.points) p = *T_tanker_cloud * p;
+  in.left_eye = T_left->translation();
+  in.right_eye = T_right->translation();
+  in.volumes_wanted = markers_pub_.getNumSubscribers() > 0;
+  if (step_->NeedsLinks(in.volumes_wanted)) {
+    // One missing link leaves the boom unplaced: waiting tf_timeout for each of the others
+    // too would put the stage behind the frames for as long as their tf is missing.
+    for (const auto& link : step_->boom_links()) {
+      auto T = Lookup(link, stamp, &in.links_error);
+      if (!T) break;
+      in.T_tanker_links[link] = *T;
+    }
   }
+  if (step_->builds_reference()) in.T_tanker_receiver_predicted = PredictedPose(stamp);
+  return in;
 }
 
 void OcclusionNode::ReportError(const std::string& what) {

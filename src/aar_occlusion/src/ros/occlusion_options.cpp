@@ -1,5 +1,6 @@
 // The node's parameters, apart from the node so that they can be read without a master
 // (ParamReader over a parameter tree: the parameter fuzz target).
+#include <aar_ros_common/node_options.h>
 #include <aar_ros_common/param_reader.h>
 #include <aar_ros_common/receiver_params.h>
 
@@ -25,16 +26,12 @@ OcclusionNodeOptions LoadOcclusionNodeOptions(aar_ros_common::ParamReader& param
       params.GetNonNegative("cull_depth_coefficient", step.boom.cull_depth_coefficient);
   step.model_boom = params.Get("model_boom", step.model_boom);
   step.build_reference = params.Get("publish_reference", step.build_reference);
-  o.robot_description = params.Get("robot_description", o.robot_description);
   o.receiver = aar_ros_common::LoadReceiverModel(params, step.sampling);
   for (const auto& p : o.receiver.propellers)  // the description's, for cull_propellers
     step.propellers.push_back({p.hub, p.axis, p.radius, p.hub_radius});
-  // Sampling does not cast rays here: the tolerance is the dynamic reference's self-occlusion.
-  step.reference.visibility_tolerance = step.sampling.visibility_tolerance;
   step.reference.reshell_distance = params.Get("reshell_distance", step.reference.reshell_distance);
   step.max_point_range = params.Get("max_point_range", step.max_point_range);
-  step.seed_densest_ball =
-      params.GetChoice<bool>("seed_points", "all", {{"all", false}, {"densest_ball", true}});
+  step.seed_points = aar_ros_common::LoadSeedPoints(params);
   step.cull_propellers = params.Get("cull_propellers", step.cull_propellers);
   step.propeller_margin = params.GetNonNegative("propeller_margin", step.propeller_margin);
   step.propeller_depth_margin =
@@ -44,16 +41,11 @@ OcclusionNodeOptions LoadOcclusionNodeOptions(aar_ros_common::ParamReader& param
   step.gate_depth_coefficient =
       params.GetNonNegative("gate_depth_coefficient", step.gate_depth_coefficient);
   params.Check(step.max_point_range > 0.0, "max_point_range", "must be > 0");
-  o.frames = aar_ros_common::LoadStackFrames(params);
-  o.tf_timeout = params.GetNonNegative("tf_timeout", o.tf_timeout);
-  o.tf_fallback_age = params.GetNonNegative("tf_fallback_age", o.tf_fallback_age);
+  o.common = aar_ros_common::LoadCommonNodeOptions(params, o.common);
   o.newest_wins = params.Get("newest_wins", o.newest_wins);
-  o.estimate_max_age = params.Get("estimate_max_age", o.estimate_max_age);
   o.marker_length = params.Get("marker_length", o.marker_length);
   o.estimate_wait = params.GetNonNegative("estimate_wait", o.estimate_wait);
   o.extrapolate_estimate = params.Get("extrapolate_estimate", o.extrapolate_estimate);
-  o.diagnostic_period = params.Get("diagnostic_period", o.diagnostic_period);
-  if (!(o.diagnostic_period > 0.0)) throw std::invalid_argument("~diagnostic_period must be > 0");
   params.RejectUnknown();
   return o;
 }

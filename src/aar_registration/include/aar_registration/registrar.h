@@ -24,9 +24,7 @@ enum class ReferenceKind { kShelled, kWingsNose, kDense, kTopic };
 // Thesis: centroid of the sensed points with the tanker's orientation; or the previous estimate;
 // or the tracker's prediction at the frame's stamp (the centroid while acquiring).
 enum class SeedMode { kCentroid, kPrevious, kPrediction };
-// Which sensed points the centroid seed takes: all (thesis), or those in the densest ball of the
-// reference's size (aar_geometry::DensestBall; ours), which far clutter does not drag.
-enum class SeedPoints { kAll, kDensestBall };
+using aar_geometry::SeedPoints;  // which sensed points the centroid seed takes
 
 // A registration the tracker is not even asked about: too loose a fit to be a pose. Loose
 // defaults: far out (region A) the RMS of good registrations reaches half a metre (stereo

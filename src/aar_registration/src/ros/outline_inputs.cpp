@@ -4,6 +4,7 @@
 
 #include <aar_alignment/boom_parts.h>
 #include <aar_geometry/robot_model.h>
+#include <aar_ros_common/robot_description.h>
 #include <aar_ros_common/tf_bridge.h>
 #include <cv_bridge/cv_bridge.h>
 #include <sensor_msgs/image_encodings.h>
@@ -22,15 +23,12 @@ OutlineInputs::OutlineInputs(ros::NodeHandle nh, const tf2_ros::Buffer& tf,
       tanker_frame_(tanker_frame),
       tf_timeout_(tf_timeout),
       tf_fallback_age_(tf_fallback_age) {
-  std::string urdf;
   if (robot_description.empty()) {
     ROS_INFO("registration: no boom modelled (model_boom: false): the outline masks none");
-  } else if (!nh.getParam(robot_description, urdf)) {
-    boom_error_ = "no boom URDF in parameter " + nh.resolveName(robot_description);
   } else {
     try {
-      boom_ = aar_occlusion::LoadBoomParts(
-          aar_geometry::ParseRobotModel(urdf, nh.resolveName(robot_description), ""));
+      boom_ =
+          aar_occlusion::LoadBoomParts(aar_ros_common::LoadRobotDescription(nh, robot_description));
       std::set<std::string> links;
       for (const auto& part : boom_) links.insert(part.link);
       boom_links_.assign(links.begin(), links.end());

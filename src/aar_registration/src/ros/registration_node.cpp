@@ -31,7 +31,7 @@ RegistrationNode::RegistrationNode(ros::NodeHandle nh, ros::NodeHandle private_n
   diagnostics_.setHardwareID("registration");
   diagnostics_.add("registration", this, &RegistrationNode::Diagnose);
   diagnostics_timer_ =
-      nh_.createWallTimer(ros::WallDuration(options_.diagnostic_period),
+      nh_.createWallTimer(ros::WallDuration(options_.common.diagnostic_period),
                           [this](const ros::WallTimerEvent&) { diagnostics_.force_update(); });
   pose_pub_ = nh_.advertise<geometry_msgs::PoseWithCovarianceStamped>("aar/receiver_pose", 10);
   estimate_pub_ = nh_.advertise<aar_msgs::PoseEstimate>("aar/pose_estimate", 10);
@@ -41,10 +41,10 @@ RegistrationNode::RegistrationNode(ros::NodeHandle nh, ros::NodeHandle private_n
     receiver_mesh_ = aar_description::LoadReceiverMesh(options_.receiver);
   if (options_.registrar.outline.enabled) {
     registrar_.SetOutlineModel(receiver_mesh_);
-    outline_ =
-        std::make_unique<OutlineInputs>(nh_, tf_buffer_, options_.frames.tanker,
-                                        options_.model_boom ? options_.robot_description : "",
-                                        options_.tf_timeout, options_.tf_fallback_age);
+    outline_ = std::make_unique<OutlineInputs>(
+        nh_, tf_buffer_, options_.common.frames.tanker,
+        options_.model_boom ? options_.common.robot_description : "", options_.common.tf_timeout,
+        options_.common.tf_fallback_age);
     outline_pub_ = nh_.advertise<geometry_msgs::PoseWithCovarianceStamped>("aar/outline_pose", 10);
   }
   PublishModels();
@@ -99,10 +99,12 @@ bool RegistrationNode::TryBuildStaticReference(double tf_wait) {
   // The camera positions, for shelling as they see the receiver at the nominal pose.
   std::vector<Eigen::Vector3d> eyes;
   if (options_.registrar.reference != ReferenceKind::kDense) {
-    for (const auto& frame : {options_.frames.left_camera, options_.frames.right_camera}) {
+    for (const auto& frame :
+         {options_.common.frames.left_camera, options_.common.frames.right_camera}) {
       std::string error;
-      const auto T_tanker_camera = aar_ros_common::LookupTransform(
-          tf_buffer_, options_.frames.tanker, frame, ros::Time(0), tf_wait, "any time", &error);
+      const auto T_tanker_camera =
+          aar_ros_common::LookupTransform(tf_buffer_, options_.common.frames.tanker, frame,
+                                          ros::Time(0), tf_wait, "any time", &error);
       if (!T_tanker_camera) {
         const double waited = (ros::WallTime::now() - reference_wait_since_).toSec();
         if (waited >= 5.0) {
@@ -251,16 +253,16 @@ void RegistrationNode::Register(const sensor_msgs::PointCloud2::ConstPtr& msg) {
     if (!registrar_.has_reference()) throw std::runtime_error("no reference model yet");
     std::string error;
     const auto T_tanker_cloud = aar_ros_common::LookupTransform(
-        tf_buffer_, options_.frames.tanker, msg->header.frame_id, msg->header.stamp,
-        options_.tf_timeout, "the cloud's stamp", &error);
+        tf_buffer_, options_.common.frames.tanker, msg->header.frame_id, msg->header.stamp,
+        options_.common.tf_timeout, "the cloud's stamp", &error);
     if (!T_tanker_cloud) throw std::runtime_error(error);
     std::vector<Eigen::Vector3d> sensed = aar_ros_common::FromCloud(*msg).points;
     for (auto& p : sensed) p = *T_tanker_cloud * p;
     std::optional<Eigen::Vector3d> eye;  // stereo-ray ICP pairs along the left camera's rays
     if (options_.registrar.icp.metric == IcpMetric::kStereoRays) {
       const auto T_tanker_left = aar_ros_common::LookupTransform(
-          tf_buffer_, options_.frames.tanker, options_.frames.left_camera, msg->header.stamp,
-          options_.tf_timeout, "the cloud's stamp", &error);
+          tf_buffer_, options_.common.frames.tanker, options_.common.frames.left_camera,
+          msg->header.stamp, options_.common.tf_timeout, "the cloud's stamp", &error);
       if (!T_tanker_left) throw std::runtime_error("stereo_rays ICP: " + error);
       eye = T_tanker_left->translation();
     }
@@ -316,7 +318,7 @@ void RegistrationNode::PublishOutline(const RegistrarResult& result,
   if (!result.outline.valid) return;
   geometry_msgs::PoseWithCovarianceStamped pose;
   pose.header.stamp = cloud_header.stamp;
-  pose.header.frame_id = options_.frames.tanker;
+  pose.header.frame_id = options_.common.frames.tanker;
   pose.pose.pose = tf2::toMsg(result.outline.T_tanker_receiver);
   for (int i = 0; i < 36; ++i) pose.pose.covariance[i] = result.outline.covariance(i / 6, i % 6);
   outline_pub_.publish(pose);
@@ -326,7 +328,7 @@ void RegistrationNode::Publish(const RegistrarResult& result, const ros::Time& s
                                double total_ms) {
   std_msgs::Header header;
   header.stamp = stamp;
-  header.frame_id = options_.frames.tanker;
+  header.frame_id = options_.common.frames.tanker;
   const aar_msgs::PoseEstimate estimate = ToPoseEstimate(result, header, total_ms);
   {
     std::lock_guard<std::mutex> lock(report_mutex_);
@@ -346,7 +348,7 @@ void RegistrationNode::Publish(const RegistrarResult& result, const ros::Time& s
     pose.pose.covariance = estimate.covariance;
     geometry_msgs::TransformStamped tf = tf2::eigenToTransform(result.T_tanker_receiver);
     tf.header = header;
-    tf.child_frame_id = options_.frames.receiver;
+    tf.child_frame_id = options_.common.frames.receiver;
     tf_broadcaster_.sendTransform(tf);
     pose_pub_.publish(pose);
   }
@@ -398,10 +400,10 @@ void RegistrationNode::PublishModels() {
   // locked to its frame, shown where tf has that frame (truth: simulations and their bags).
   models_pub_ = nh_.advertise<visualization_msgs::MarkerArray>("aar/receiver_models", 1, true);
   visualization_msgs::MarkerArray models;
-  models.markers.push_back(
-      aar_ros_common::MeshMarker(options_.frames.receiver, "estimate", options_.receiver.mesh,
-                                 aar_ros_common::Rgba(1.0f, 0.55f, 0.1f, 0.6f),
-                                 options_.receiver.T_body_mesh, options_.receiver.scale));
+  models.markers.push_back(aar_ros_common::MeshMarker(
+      options_.common.frames.receiver, "estimate", options_.receiver.mesh,
+      aar_ros_common::Rgba(1.0f, 0.55f, 0.1f, 0.6f), options_.receiver.T_body_mesh,
+      options_.receiver.scale));
   models.markers.push_back(
       aar_ros_common::MeshMarker(options_.truth_frame, "truth", options_.receiver.mesh,
                                  aar_ros_common::Rgba(0.8f, 0.8f, 0.8f, 1.0f),

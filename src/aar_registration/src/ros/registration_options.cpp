@@ -1,6 +1,7 @@
 // The node's parameters, apart from the node so that they can be read without a master
 // (ParamReader over a parameter tree: the parameter fuzz target).
 #include <aar_geometry/pose.h>
+#include <aar_ros_common/node_options.h>
 #include <aar_ros_common/param_reader.h>
 #include <aar_ros_common/receiver_params.h>
 
@@ -8,27 +9,17 @@
 
 namespace aar_registration {
 
-RegistrationNodeOptions LoadRegistrationNodeOptions(const ros::NodeHandle& nh) {
-  aar_ros_common::ParamReader params(nh);
-  return LoadRegistrationNodeOptions(params);
-}
+namespace {
 
-RegistrationNodeOptions LoadRegistrationNodeOptions(aar_ros_common::ParamReader& params) {
-  RegistrationNodeOptions o;
-  RegistrarOptions& r = o.registrar;
-  r.reference = params.GetChoice<ReferenceKind>("reference", "shelled",
-                                                {{"shelled", ReferenceKind::kShelled},
-                                                 {"wings_nose", ReferenceKind::kWingsNose},
-                                                 {"dense", ReferenceKind::kDense},
-                                                 {"topic", ReferenceKind::kTopic}});
-  o.receiver = aar_ros_common::LoadReceiverModel(params, r.sampling);
-  if (!o.receiver.static_parts.empty()) r.static_parts = o.receiver.static_parts;
+// The pose the shelled reference is seen from (~nominal_*).
+Eigen::Isometry3d LoadNominalPose(aar_ros_common::ParamReader& params,
+                                  const aar_description::ReceiverDescription& receiver) {
   // Nominal pose for shelling: the receiver's contact pose (its description's; else the C-12's
   // on the default approach).
   Eigen::Vector3d contact(-35.0, 0.0, -10.19), contact_rpy_deg(0.0, -2.0, 0.0);
-  if (o.receiver.has_contact) {
-    contact = o.receiver.T_tanker_receiver_contact.translation();
-    contact_rpy_deg = o.receiver.contact_rpy_deg;
+  if (receiver.has_contact) {
+    contact = receiver.T_tanker_receiver_contact.translation();
+    contact_rpy_deg = receiver.contact_rpy_deg;
   }
   const Eigen::Vector3d nominal(params.Get("nominal_x", contact.x()),
                                 params.Get("nominal_y", contact.y()),
@@ -37,33 +28,39 @@ RegistrationNodeOptions LoadRegistrationNodeOptions(aar_ros_common::ParamReader&
       aar_geometry::DegToRad(params.Get("nominal_roll_deg", contact_rpy_deg.x())),
       aar_geometry::DegToRad(params.Get("nominal_pitch_deg", contact_rpy_deg.y())),
       aar_geometry::DegToRad(params.Get("nominal_yaw_deg", contact_rpy_deg.z()))};
-  r.T_tanker_receiver_nominal = aar_geometry::MakeTransform(nominal, nominal_rpy);
-  r.icp.metric = params.GetChoice<IcpMetric>("icp_metric", "point_to_point",
-                                             {{"point_to_point", IcpMetric::kPointToPoint},
-                                              {"point_to_plane", IcpMetric::kPointToPlane},
-                                              {"generalized_pcl", IcpMetric::kGeneralizedPcl},
-                                              {"stereo_rays", IcpMetric::kStereoRays}});
-  r.icp.stereo.ray_sigma_coefficient =
-      params.GetNonNegative("icp_ray_sigma_coefficient", r.icp.stereo.ray_sigma_coefficient);
-  r.icp.stereo.plane_sigma = params.Get("icp_plane_sigma", r.icp.stereo.plane_sigma);
-  params.Check(r.icp.stereo.plane_sigma > 0.0, "icp_plane_sigma", "must be > 0");
-  r.icp.stereo.ray_reach = params.Get("icp_ray_reach", r.icp.stereo.ray_reach);
-  params.Check(r.icp.stereo.ray_reach > 0.0, "icp_ray_reach", "must be > 0");
-  r.icp.max_iterations = params.Get("max_iterations", r.icp.max_iterations);
-  r.icp.max_correspondence_distance =
-      params.Get("max_correspondence_distance", r.icp.max_correspondence_distance);
-  r.icp.min_rms_improvement = params.Get("min_rms_improvement", r.icp.min_rms_improvement);
-  r.icp.stop_on_rms_rise = params.Get("stop_on_rms_rise", r.icp.stop_on_rms_rise);
-  r.icp.rms_epsilon = params.Get("rms_epsilon", r.icp.rms_epsilon);
-  r.icp.independent_correspondences =
-      params.Get("independent_correspondences", r.icp.independent_correspondences);
+  return aar_geometry::MakeTransform(nominal, nominal_rpy);
+}
+
+IcpOptions LoadIcpOptions(aar_ros_common::ParamReader& params, IcpOptions icp) {
+  icp.metric = params.GetChoice<IcpMetric>("icp_metric", "point_to_point",
+                                           {{"point_to_point", IcpMetric::kPointToPoint},
+                                            {"point_to_plane", IcpMetric::kPointToPlane},
+                                            {"generalized_pcl", IcpMetric::kGeneralizedPcl},
+                                            {"stereo_rays", IcpMetric::kStereoRays}});
+  icp.stereo.ray_sigma_coefficient =
+      params.GetNonNegative("icp_ray_sigma_coefficient", icp.stereo.ray_sigma_coefficient);
+  icp.stereo.plane_sigma = params.Get("icp_plane_sigma", icp.stereo.plane_sigma);
+  params.Check(icp.stereo.plane_sigma > 0.0, "icp_plane_sigma", "must be > 0");
+  icp.stereo.ray_reach = params.Get("icp_ray_reach", icp.stereo.ray_reach);
+  params.Check(icp.stereo.ray_reach > 0.0, "icp_ray_reach", "must be > 0");
+  icp.max_iterations = params.Get("max_iterations", icp.max_iterations);
+  icp.max_correspondence_distance =
+      params.Get("max_correspondence_distance", icp.max_correspondence_distance);
+  icp.min_rms_improvement = params.Get("min_rms_improvement", icp.min_rms_improvement);
+  icp.stop_on_rms_rise = params.Get("stop_on_rms_rise", icp.stop_on_rms_rise);
+  icp.rms_epsilon = params.Get("rms_epsilon", icp.rms_epsilon);
+  icp.independent_correspondences =
+      params.Get("independent_correspondences", icp.independent_correspondences);
+  return icp;
+}
+
+// The seed, the sensed cloud's bounds, tracking on or off and the registration gate.
+void LoadSeedAndGate(aar_ros_common::ParamReader& params, RegistrarOptions& r) {
   r.seed = params.GetChoice<SeedMode>("seed", "centroid",
                                       {{"centroid", SeedMode::kCentroid},
                                        {"previous", SeedMode::kPrevious},
                                        {"prediction", SeedMode::kPrediction}});
-  r.seed_points = params.GetChoice<SeedPoints>(
-      "seed_points", "all",
-      {{"all", SeedPoints::kAll}, {"densest_ball", SeedPoints::kDensestBall}});
+  r.seed_points = aar_ros_common::LoadSeedPoints(params);
   r.previous_max_age = params.Get("previous_max_age", r.previous_max_age);
   r.max_sensed_points = params.Get("max_sensed_points", r.max_sensed_points);
   r.max_cloud_points = params.Get("max_cloud_points", r.max_cloud_points);
@@ -73,7 +70,9 @@ RegistrationNodeOptions LoadRegistrationNodeOptions(aar_ros_common::ParamReader&
   r.track = params.Get("track", r.track);
   r.gate.min_fitness = params.Get("gate_min_fitness", r.gate.min_fitness);
   r.gate.max_rms = params.Get("gate_max_rms", r.gate.max_rms);
-  TrackerOptions& t = r.tracker;
+}
+
+TrackerOptions LoadTrackerOptions(aar_ros_common::ParamReader& params, TrackerOptions t) {
   // Checked here under their YAML names (the tracker checks them again under its own).
   t.acceleration_sigma = params.GetPositive("acceleration_sigma", t.acceleration_sigma);
   t.angular_acceleration_sigma =
@@ -85,7 +84,10 @@ RegistrationNodeOptions LoadRegistrationNodeOptions(aar_ros_common::ParamReader&
   t.max_rejections = params.Get("max_rejections", t.max_rejections);
   params.Check(t.max_rejections >= 1, "max_rejections", "must be >= 1");
   t.max_coast_s = params.GetPositive("max_coast", t.max_coast_s);
-  OutlineOptions& outline = r.outline;
+  return t;
+}
+
+OutlineOptions LoadOutlineOptions(aar_ros_common::ParamReader& params, OutlineOptions outline) {
   outline.enabled = params.Get("outline", outline.enabled);
   outline.min_quality = params.Get("outline_min_quality", outline.min_quality);
   outline.max_poor_frames = params.Get("outline_max_poor_frames", outline.max_poor_frames);
@@ -135,18 +137,38 @@ RegistrationNodeOptions LoadRegistrationNodeOptions(aar_ros_common::ParamReader&
   params.Check(a.contour_points >= 8, "outline_contour_points", "must be >= 8");
   params.Check(a.search_radius_px >= 0.0, "outline_search_radius", "must be >= 0");
   params.Check(a.covariance_scale > 0.0, "outline_covariance_scale", "must be > 0");
-  params.Check(!outline.enabled || r.track, "outline", "needs track: true");
-  o.robot_description = params.Get("robot_description", o.robot_description);
+  return outline;
+}
+
+}  // namespace
+
+RegistrationNodeOptions LoadRegistrationNodeOptions(const ros::NodeHandle& nh) {
+  aar_ros_common::ParamReader params(nh);
+  return LoadRegistrationNodeOptions(params);
+}
+
+RegistrationNodeOptions LoadRegistrationNodeOptions(aar_ros_common::ParamReader& params) {
+  RegistrationNodeOptions o;
+  RegistrarOptions& r = o.registrar;
+  r.reference = params.GetChoice<ReferenceKind>("reference", "shelled",
+                                                {{"shelled", ReferenceKind::kShelled},
+                                                 {"wings_nose", ReferenceKind::kWingsNose},
+                                                 {"dense", ReferenceKind::kDense},
+                                                 {"topic", ReferenceKind::kTopic}});
+  o.receiver = aar_ros_common::LoadReceiverModel(params, r.sampling);
+  if (!o.receiver.static_parts.empty()) r.static_parts = o.receiver.static_parts;
+  r.T_tanker_receiver_nominal = LoadNominalPose(params, o.receiver);
+  r.icp = LoadIcpOptions(params, r.icp);
+  LoadSeedAndGate(params, r);
+  r.tracker = LoadTrackerOptions(params, r.tracker);
+  r.outline = LoadOutlineOptions(params, r.outline);
+  params.Check(!r.outline.enabled || r.track, "outline", "needs track: true");
+  o.common = aar_ros_common::LoadCommonNodeOptions(params, o.common);
   o.model_boom = params.Get("model_boom", o.model_boom);
-  o.frames = aar_ros_common::LoadStackFrames(params);
   o.truth_frame = params.Get("truth_frame", o.truth_frame);
-  o.tf_timeout = params.GetNonNegative("tf_timeout", o.tf_timeout);
-  o.tf_fallback_age = params.GetNonNegative("tf_fallback_age", o.tf_fallback_age);
   o.newest_wins = params.Get("newest_wins", o.newest_wins);
   o.reference_timeout = params.GetNonNegative("reference_timeout", o.reference_timeout);
   o.max_stamp_lead = params.GetNonNegative("max_stamp_lead", o.max_stamp_lead);
-  o.diagnostic_period = params.Get("diagnostic_period", o.diagnostic_period);
-  params.Check(o.diagnostic_period > 0.0, "diagnostic_period", "must be > 0");
 
   params.RejectUnknown();
   return o;

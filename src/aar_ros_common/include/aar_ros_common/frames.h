@@ -14,9 +14,9 @@ struct StackFrames {
   std::string right_camera = "stereo_right_optical";
 };
 
-// ~tanker_frame, ~receiver_frame, ~left_camera_frame, ~right_camera_frame over the defaults.
-inline StackFrames LoadStackFrames(ParamReader& params) {
-  StackFrames f;
+// ~tanker_frame, ~receiver_frame, ~left_camera_frame, ~right_camera_frame over `defaults`.
+inline StackFrames LoadStackFrames(ParamReader& params, const StackFrames& defaults = {}) {
+  StackFrames f = defaults;
   f.tanker = params.Get("tanker_frame", f.tanker);
   f.receiver = params.Get("receiver_frame", f.receiver);
   f.left_camera = params.Get("left_camera_frame", f.left_camera);

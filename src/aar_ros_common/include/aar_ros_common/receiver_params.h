@@ -19,6 +19,10 @@ aar_description::ReceiverDescription LoadReceiverModel(
 // ~receiver alone, for nodes that need the model's shape but do not sample it.
 aar_description::ReceiverDescription LoadReceiver(ParamReader& params);
 
+// ~seed_points: all (default) or densest_ball (aar_geometry::SeedPoints), occlusion's and
+// registration's centroid seed.
+aar_geometry::SeedPoints LoadSeedPoints(ParamReader& params);
+
 // The default receiver: aar_description's models/c12.yaml.
 std::string DefaultReceiver();
 

@@ -8,6 +8,7 @@
 #include <aar_geometry/mesh_io.h>
 #include <aar_ros_common/param_reader.h>
 #include <aar_ros_common/receiver_params.h>
+#include <aar_ros_common/robot_description.h>
 #include <aar_ros_common/start_count.h>
 #include <aar_ros_common/tf_bridge.h>
 
@@ -30,19 +31,18 @@ StereoNode::StereoNode(ros::NodeHandle nh, ros::NodeHandle private_nh,
     const StereoRoiOptions& roi = options_.roi;
     receiver_box_ = aar_description::LoadReceiverMesh(roi.receiver).Bounds();  // throws: fatal
     if (roi.include_boom) {
-      // Searched upwards from the stereo namespace, as robot_state_publisher's is found.
-      std::string key, urdf;
-      if (!nh_.searchParam(roi.robot_description, key) || !nh_.getParam(key, urdf))
-        throw std::invalid_argument("~roi_include_boom needs the boom's URDF in parameter " +
-                                    roi.robot_description + " (searched up from " +
-                                    nh_.getNamespace() + ")");
-      boom_ = aar_geometry::ParseRobotModel(urdf, key, "");
+      try {
+        boom_ = aar_ros_common::LoadRobotDescription(nh_, options_.common.robot_description);
+      } catch (const std::runtime_error& e) {  // fatal: the region would cut the boom's points
+        throw std::invalid_argument(std::string("~roi_include_boom needs the boom's URDF: ") +
+                                    e.what());
+      }
     }
     tf_buffer_ = std::make_unique<tf2_ros::Buffer>();
     tf_listener_ = std::make_unique<tf2_ros::TransformListener>(*tf_buffer_);
     // Estimates are published outside the stereo namespace: an absolute name (remappable).
     estimates_ = std::make_unique<aar_ros_common::EstimateListener>(nh_, "/aar/pose_estimate",
-                                                                    roi.frames.tanker);
+                                                                    options_.common.frames.tanker);
   }
   // Process-wide: in a nodelet manager it applies to every OpenCV call of every nodelet.
   if (options_.opencv_threads >= 0) cv::setNumThreads(options_.opencv_threads);
@@ -352,8 +352,8 @@ std::optional<Eigen::Isometry3d> StereoNode::Transform(const std::string& target
                                                        const std::string& source,
                                                        const ros::Time& stamp, std::string* why) {
   return aar_ros_common::LookupTransformOrLatest(
-      *tf_buffer_, target, source, stamp, options_.roi.tf_timeout, options_.roi.tf_fallback_age,
-      "the images' stamp", why);
+      *tf_buffer_, target, source, stamp, options_.common.tf_timeout,
+      options_.common.tf_fallback_age, "the images' stamp", why);
 }
 
 FrameRegion StereoNode::Roi(const std_msgs::Header& header, const StereoGeometry& geometry,
@@ -364,12 +364,13 @@ FrameRegion StereoNode::Roi(const std_msgs::Header& header, const StereoGeometry
   if (previous_stamp_ && o.estimate_wait > 0.0 && header.stamp > *previous_stamp_)
     estimates_->WaitFor(*previous_stamp_, o.estimate_wait);
   previous_stamp_ = header.stamp;
-  const auto predicted = estimates_->Predict(header.stamp, o.estimate_max_age);
+  const auto predicted = estimates_->Predict(header.stamp, options_.common.estimate_max_age);
   if (!predicted || !predicted->tracking) {
     *why = "no tracked estimate within estimate_max_age";
     return {};
   }
-  const auto T_tanker_optical = Transform(o.frames.tanker, header.frame_id, header.stamp, why);
+  const auto T_tanker_optical =
+      Transform(options_.common.frames.tanker, header.frame_id, header.stamp, why);
   if (!T_tanker_optical) return {};
   const Eigen::Isometry3d T_optical_tanker = T_tanker_optical->inverse();
   const std::vector<Eigen::Vector3d> receiver =
@@ -378,7 +379,7 @@ FrameRegion StereoNode::Roi(const std_msgs::Header& header, const StereoGeometry
   if (boom_) {
     std::map<std::string, Eigen::Isometry3d> T_tanker_links;
     for (const auto& link : boom_->links) {
-      const auto T = Transform(o.frames.tanker, link.name, header.stamp, why);
+      const auto T = Transform(options_.common.frames.tanker, link.name, header.stamp, why);
       if (!T) return {};
       T_tanker_links[link.name] = *T;
     }

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <sstream>
 
+#include <aar_ros_common/node_options.h>
 #include <aar_ros_common/param_reader.h>
 #include <aar_ros_common/receiver_params.h>
 #include <dynamic_reconfigure/config_tools.h>
@@ -83,17 +84,12 @@ StereoNodeOptions LoadStereoNodeOptions(aar_ros_common::ParamReader& params) {
   roi.receiver_margin = params.Get("roi_receiver_margin", roi.receiver_margin);
   params.Check(roi.receiver_margin >= 0.0, "roi_receiver_margin", "must be >= 0 [m]");
   roi.include_boom = params.Get("roi_include_boom", roi.include_boom);
-  roi.estimate_max_age = params.Get("estimate_max_age", roi.estimate_max_age);
-  params.Check(roi.estimate_max_age > 0.0, "estimate_max_age", "must be > 0 [s]");
   roi.estimate_wait = params.GetNonNegative("estimate_wait", roi.estimate_wait);
-  roi.tf_timeout = params.GetNonNegative("tf_timeout", roi.tf_timeout);
-  roi.tf_fallback_age = params.GetNonNegative("tf_fallback_age", roi.tf_fallback_age);
-  roi.robot_description = params.Get("robot_description", roi.robot_description);
   roi.receiver = aar_ros_common::LoadReceiver(params);
-  roi.frames = aar_ros_common::LoadStackFrames(params);
-  // Everything else in ~ must be a reconfigurable setting (dynamic_reconfigure reads those) or
-  // diagnostic_updater's period: a typo would otherwise be ignored.
-  params.Allow("diagnostic_period");
+  // diagnostic_period is also read by diagnostic_updater itself.
+  o.common = aar_ros_common::LoadCommonNodeOptions(params, o.common);
+  // Everything else in ~ must be a reconfigurable setting (dynamic_reconfigure reads those): a
+  // typo would otherwise be ignored.
   for (const auto& p : StereoConfig::__getParamDescriptions__()) params.Allow(p->name);
   CheckReconfigurableSettings(params);
   params.AllowSubNamespaces();  // dynamic_reconfigure's own

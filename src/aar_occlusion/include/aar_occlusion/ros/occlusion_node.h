@@ -9,8 +9,9 @@
 
 #include <aar_ros_common/error_throttle.h>
 #include <aar_ros_common/frame_ledger.h>
-#include <aar_ros_common/frames.h>
+#include <aar_ros_common/node_options.h>
 #include <aar_ros_common/param_reader.h>
+#include <aar_ros_common/point_cloud.h>
 #include <diagnostic_updater/diagnostic_updater.h>
 #include <ros/ros.h>
 #include <sensor_msgs/PointCloud2.h>
@@ -27,20 +28,23 @@
 
 namespace aar_occlusion {
 
+// Occlusion's defaults of the shared keys: tf (the cloud's, cameras' and links') waited for
+// 0.5 s; an estimate older than 1 s is not used as the predicted pose.
+inline aar_ros_common::CommonNodeOptions OcclusionCommonDefaults() {
+  aar_ros_common::CommonNodeOptions c;
+  c.estimate_max_age = 1.0;
+  return c;
+}
+
 struct OcclusionNodeOptions {
-  OcclusionStepOptions step;                            // culling, margins, the dynamic reference
-  std::string robot_description = "robot_description";  // parameter holding the boom's URDF
-  aar_description::ReceiverDescription receiver;        // ~receiver (default: the C-12)
-  aar_ros_common::StackFrames frames;                   // tanker, receiver (estimate), cameras
-  double tf_timeout = 0.5;  // [s wall] waiting for the cloud's, cameras' and links' tf
-  // [s] > 0: when tf has nothing at the cloud's stamp after tf_timeout, the latest at most this
-  // much older (the boom's joints a frame old rather than a wait for their tf; real time). 0: off.
-  double tf_fallback_age = 0.0;
+  OcclusionStepOptions step;                      // culling, margins, the dynamic reference
+  aar_description::ReceiverDescription receiver;  // ~receiver (default: the C-12)
+  // Frames, the boom's URDF parameter, tf waits, /diagnostics period, estimate age.
+  aar_ros_common::CommonNodeOptions common = OcclusionCommonDefaults();
   // true: clouds are culled on a thread of their own and a cloud that arrives while another
   // waits replaces it, counted (real time: replay.launch realtime:=true sets it); false: culled
   // in the subscriber callback, queueing (lockstep runs and slow replays keep every cloud).
   bool newest_wins = false;
-  double estimate_max_age = 1.0;  // [s] an older estimate is not used as the predicted pose
   // [s wall] how long to wait for the estimate of the previous cloud (tf tanker -> receiver at
   // its stamp): in lockstep it is on its way, and waiting makes runs repeatable.
   double estimate_wait = 0.2;
@@ -48,8 +52,7 @@ struct OcclusionNodeOptions {
   // receiver; the thesis); true, the latest aar/pose_estimate moved on to the cloud's stamp by
   // its velocity (tracking), which also covers estimates that lag frames behind in real time.
   bool extrapolate_estimate = false;
-  double diagnostic_period = 1.0;  // [s wall] /diagnostics
-  double marker_length = 30.0;     // [m] how far the shadow-volume markers reach past the boom
+  double marker_length = 30.0;  // [m] how far the shadow-volume markers reach past the boom
 };
 
 // Reads ~parameters (one function, unknown keys rejected); throws std::invalid_argument.
@@ -71,6 +74,10 @@ class OcclusionNode {
   // skipped and counted (aar_ros_common::NewestWins).
   void OnCloud(const sensor_msgs::PointCloud2::ConstPtr& msg);
   void Cull(const sensor_msgs::PointCloud2::ConstPtr& msg);
+  // The step's input from the cloud and tf (the cloud's, the cameras', the boom links', the
+  // predicted pose); throws std::runtime_error naming the missing transform.
+  OcclusionInput GatherInput(const sensor_msgs::PointCloud2& msg,
+                             const aar_ros_common::CloudPoints& cloud);
   std::optional<Eigen::Isometry3d> Lookup(const std::string& frame, const ros::Time& stamp,
                                           std::string* error);
   std::optional<Eigen::Isometry3d> PredictedPose(const ros::Time& stamp);

@@ -11,8 +11,8 @@
 #include <aar_geometry/triangle_mesh.h>
 #include <aar_ros_common/error_throttle.h>
 #include <aar_ros_common/frame_ledger.h>
-#include <aar_ros_common/frames.h>
 #include <aar_ros_common/newest_wins.h>
+#include <aar_ros_common/node_options.h>
 #include <aar_ros_common/param_reader.h>
 #include <aar_ros_common/stamp_order.h>
 #include <diagnostic_updater/diagnostic_updater.h>
@@ -34,12 +34,12 @@ namespace aar_registration {
 struct RegistrationNodeOptions {
   RegistrarOptions registrar;  // reference kind, sampling, nominal pose, ICP, seed policy
   aar_description::ReceiverDescription receiver;  // ~receiver (default: the C-12)
-  aar_ros_common::StackFrames frames;             // tanker, receiver (estimate), cameras
-  std::string truth_frame = "receiver_truth";     // only for the rviz model at truth
-  double tf_timeout = 0.5;  // [s wall] waiting for the sensed cloud's transform
-  // [s] > 0: the outline's boom mask from the links' latest tf at most this much older when the
-  // images' own has not come after tf_timeout (real time). 0: off.
-  double tf_fallback_age = 0.0;
+  // Frames (tanker, receiver: the estimate, cameras), the boom's URDF parameter (the outline's
+  // mask), tf waits (the sensed cloud's; the fallback age: the outline's boom mask from the
+  // links' latest tf when the images' own has not come, real time), the /diagnostics period.
+  // Registration makes the estimate: it reads none (estimate_max_age 0).
+  aar_ros_common::CommonNodeOptions common;
+  std::string truth_frame = "receiver_truth";  // only for the rviz model at truth
   // true: clouds are registered on a thread of their own and a cloud that arrives while another
   // waits replaces it, counted (real time: replay.launch realtime:=true sets it); false:
   // registered in the subscriber callback, queueing (lockstep runs and slow replays).
@@ -50,10 +50,6 @@ struct RegistrationNodeOptions {
   // [s] a cloud stamped further ahead of the node's clock is refused: its pose on tf would make
   // every later tanker -> receiver transform TF_OLD_DATA. Stamp 0 is refused too.
   double max_stamp_lead = 1.0;
-  double diagnostic_period = 1.0;  // [s wall] /diagnostics
-  // The boom's URDF for the outline's mask (registrar.outline): a parameter name, resolved in the
-  // node's namespace.
-  std::string robot_description = "robot_description";
   // false: the tanker flies no boom (the boom hidden to measure its cost): the outline masks none.
   bool model_boom = true;
 };

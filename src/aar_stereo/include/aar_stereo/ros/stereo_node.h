@@ -5,8 +5,8 @@
 #include <aar_ros_common/error_throttle.h>
 #include <aar_ros_common/estimate_listener.h>
 #include <aar_ros_common/frame_ledger.h>
-#include <aar_ros_common/frames.h>
 #include <aar_ros_common/newest_wins.h>
+#include <aar_ros_common/node_options.h>
 #include <aar_ros_common/param_reader.h>
 #include <aar_ros_common/stamp_order.h>
 #include <atomic>
@@ -38,21 +38,24 @@ namespace aar_stereo {
 // lost track, no estimate yet, missing tf) the whole image is matched.
 struct StereoRoiOptions {
   bool enabled = false;
-  int margin = 16;                // [px] around the projected bounds
-  double receiver_margin = 2.0;   // [m] the receiver's bounding box grown by this: prediction error
-  bool include_boom = true;       // the boom's collision parts (needs ~robot_description and tf)
-  double estimate_max_age = 0.5;  // [s] an older estimate gives the whole image
+  int margin = 16;               // [px] around the projected bounds
+  double receiver_margin = 2.0;  // [m] the receiver's bounding box grown by this: prediction error
+  bool include_boom = true;      // the boom's collision parts (needs ~robot_description and tf)
   // [s wall] wait for the previous frame's estimate (repeatable lockstep runs; 0 in real time).
   double estimate_wait = 0.2;
-  double tf_timeout = 0.05;  // [s wall] for the camera's and the boom links' tf
-  // [s] > 0: when tf has nothing at the images' stamp yet (after tf_timeout), the latest transform
-  // at most this much older is used: a region of interest needs no exact boom pose, and waiting
-  // for tf that comes through a relay cost real-time replays ~25 ms a frame. 0: off (lockstep).
-  double tf_fallback_age = 0.0;
-  aar_description::ReceiverDescription receiver;        // ~receiver (default: the C-12)
-  std::string robot_description = "robot_description";  // parameter holding the boom's URDF
-  aar_ros_common::StackFrames frames;
+  aar_description::ReceiverDescription receiver;  // ~receiver (default: the C-12)
 };
+
+// Stereo's defaults of the shared keys: an estimate older than 0.5 s gives the whole image; tf
+// (the camera's and the boom links') is waited for 0.05 s. A tf_fallback_age > 0 uses the latest
+// transform when tf has nothing at the images' stamp yet: a region of interest needs no exact boom
+// pose, and waiting for tf that comes through a relay cost real-time replays ~25 ms a frame.
+inline aar_ros_common::CommonNodeOptions StereoCommonDefaults() {
+  aar_ros_common::CommonNodeOptions c;
+  c.estimate_max_age = 0.5;
+  c.tf_timeout = 0.05;
+  return c;
+}
 
 struct StereoNodeOptions {
   bool approximate_sync = false;  // pair images whose stamps differ (unsynchronised cameras)
@@ -80,6 +83,7 @@ struct StereoNodeOptions {
   // replay the clock's callback can wait behind busy ones.
   double max_stamp_lead = 1.0;
   StereoRoiOptions roi;
+  aar_ros_common::CommonNodeOptions common = StereoCommonDefaults();
 };
 
 // Reads the node's own (non-reconfigurable) ~parameters and rejects unknown ~parameters; the
