@@ -2,13 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
 #include <iomanip>
 #include <limits>
 #include <map>
 #include <sstream>
-
-#include <aar_geometry/load_error.h>
 
 namespace aar_eval {
 
@@ -102,110 +99,6 @@ double AverageImprovement(const RegionStats& value, const RegionStats& baseline)
   double sum = 0.0;
   for (int c = 0; c < 6; ++c) sum += PercentDifference(value.mean_abs[c], baseline.mean_abs[c]);
   return sum / 6.0;
-}
-
-namespace {
-// Before tracking (issue 12) frame CSVs ended at registration_ms; they still load.
-const char* const kHeaderBeforeTracking =
-    "t,range_m,region,estimated,x_m,y_m,z_m,roll_deg,pitch_deg,yaw_deg,converged,iterations,"
-    "rms_m,registration_ms";
-
-// Before the miss policy (issue 13) they ended at nees.
-const std::string kHeaderBeforeHold = std::string(kHeaderBeforeTracking) + ",track,nees";
-}  // namespace
-
-std::string FrameCsvHeader() {
-  return kHeaderBeforeHold +
-         ",published,published_x_m,published_y_m,published_z_m,published_roll_deg,"
-         "published_pitch_deg,published_yaw_deg";
-}
-
-std::string FrameCsvRow(const FrameRecord& f) {
-  std::ostringstream s;
-  s << std::setprecision(17) << f.t << ',' << f.range_m << ',' << aar_geometry::RegionName(f.region)
-    << ',' << (f.estimated ? 1 : 0);
-  for (double e : f.error) s << ',' << (f.estimated ? e : std::numeric_limits<double>::quiet_NaN());
-  s << ',' << (f.converged ? 1 : 0) << ',' << f.iterations << ',' << f.rms << ','
-    << f.registration_ms << ',' << f.track << ','
-    << (f.estimated ? f.nees : std::numeric_limits<double>::quiet_NaN()) << ','
-    << (f.published ? 1 : 0);
-  for (double e : f.published_error)
-    s << ',' << (f.published ? e : std::numeric_limits<double>::quiet_NaN());
-  return s.str();
-}
-
-void WriteFrameCsv(const std::string& path, const std::vector<FrameRecord>& frames) {
-  std::ofstream out(path);
-  if (!out) throw aar_geometry::LoadError(path, "cannot be written");
-  out << FrameCsvHeader() << "\n";
-  for (const auto& f : frames) out << FrameCsvRow(f) << "\n";
-  out.close();  // flushes: a full disk shows here, not in the buffered writes
-  if (out.fail()) throw aar_geometry::LoadError(path, "write failed");
-}
-
-std::vector<FrameRecord> ReadFrameCsv(const std::string& path) {
-  aar_geometry::CheckReadableFile(path);
-  std::ifstream in(path);
-  std::string line;
-  std::getline(in, line);
-  const bool before_tracking = line == kHeaderBeforeTracking;
-  const bool before_hold = line == kHeaderBeforeHold;
-  if (line != FrameCsvHeader() && !before_tracking && !before_hold)
-    throw aar_geometry::LoadError(path, "line 1: not a frame CSV header");
-  const size_t columns = before_tracking ? 14 : before_hold ? 16 : 23;
-  std::vector<FrameRecord> frames;
-  int number = 1;
-  while (std::getline(in, line)) {
-    ++number;
-    if (line.empty()) continue;
-    std::vector<std::string> cells;
-    std::stringstream ss(line);
-    for (std::string cell; std::getline(ss, cell, ',');) cells.push_back(cell);
-    const std::string where = "line " + std::to_string(number) + ": ";
-    if (line.back() == ',') cells.push_back("");  // getline drops a trailing empty cell
-    if (cells.size() != columns)
-      throw aar_geometry::LoadError(path, where + std::to_string(cells.size()) + " cells, " +
-                                              std::to_string(columns) + " expected");
-    auto number_at = [&](int i) {
-      try {
-        size_t used = 0;
-        const double v = std::stod(cells[i], &used);
-        if (used != cells[i].size()) throw std::invalid_argument("");
-        return v;
-      } catch (const std::exception&) {
-        throw aar_geometry::LoadError(path, where + "'" + cells[i] + "' is not a number");
-      }
-    };
-    FrameRecord f;
-    f.t = number_at(0);
-    f.range_m = number_at(1);
-    f.region = aar_geometry::RegionOfRange(f.range_m);
-    if (aar_geometry::RegionName(f.region) != cells[2]) {
-      throw aar_geometry::LoadError(
-          path, where + "region '" + cells[2] + "' does not match range " + cells[1]);
-    }
-    f.estimated = number_at(3) != 0.0;
-    for (int c = 0; c < 6; ++c) f.error[c] = f.estimated ? number_at(4 + c) : 0.0;
-    f.converged = number_at(10) != 0.0;
-    f.iterations = static_cast<int>(number_at(11));
-    f.rms = number_at(12);
-    f.registration_ms = number_at(13);
-    if (!before_tracking) {
-      f.track = cells[14];
-      f.nees = cells[15] == "nan" ? std::numeric_limits<double>::quiet_NaN() : number_at(15);
-    }
-    if (columns == 23) {
-      f.published = number_at(16) != 0.0;
-      for (int c = 0; c < 6; ++c) f.published_error[c] = f.published ? number_at(17 + c) : 0.0;
-      if (f.estimated && !f.published)
-        throw aar_geometry::LoadError(path, where + "estimated but not published");
-    } else {  // no record of held estimates: only the frame's own
-      f.published = f.estimated;
-      f.published_error = f.error;
-    }
-    frames.push_back(f);
-  }
-  return frames;
 }
 
 std::string MarkdownRegionTable(const std::map<std::string, std::vector<FrameRecord>>& records,

@@ -10,6 +10,7 @@
 
 #include "aar_eval/suite.h"
 #include "aar_eval/tables.h"
+#include "markdown.h"
 
 namespace aar_eval {
 namespace {
@@ -59,30 +60,26 @@ std::vector<std::string> Approaches(const std::string& dir) {
   return out;
 }
 
-}  // namespace
+// records[world][experiment][approach]
+using WorldRecords =
+    std::map<std::string, std::map<std::string, std::map<std::string, std::vector<FrameRecord>>>>;
 
-WorldsReportResult WriteWorldsReport(const WorldsReportOptions& options) {
+// Each world's frames of the reference world's approaches (the reference world's approaches are
+// the ground: every other world is compared on them); what the reference world has and another
+// lacks into result.missing.
+WorldRecords ReadWorlds(const WorldsReportOptions& options, WorldsReportResult& result) {
   namespace fs = std::filesystem;
-  if (options.worlds.size() < 2)
-    throw std::invalid_argument("a worlds report needs the reference world and at least one more");
-  if (options.experiments.empty()) throw std::invalid_argument("a worlds report needs experiments");
-  WorldsReportResult result;
-  result.path = options.path;
-
-  // The reference world's approaches are the ground: every other world is compared on them.
-  const std::string& reference = options.worlds.front().first;
-  const std::vector<std::string> approaches = Approaches(options.worlds.front().second);
-  // records[world][experiment][approach]
-  std::map<std::string, std::map<std::string, std::map<std::string, std::vector<FrameRecord>>>>
-      records;
+  const auto& [reference, reference_dir] = options.worlds.front();
+  const std::vector<std::string> approaches = Approaches(reference_dir);
+  WorldRecords records;
   for (const auto& [world, dir] : options.worlds) {
     for (const auto& e : options.experiments) {
       for (const auto& a : approaches) {
         const fs::path csv = fs::path(dir) / "approaches" / a / e / "frames.csv";
         if (fs::exists(csv)) {
           records[world][e][a] = ReadFrameCsv(csv.string());
-        } else if (world != reference && fs::exists(fs::path(options.worlds.front().second) /
-                                                    "approaches" / a / e / "frames.csv")) {
+        } else if (world != reference &&
+                   fs::exists(fs::path(reference_dir) / "approaches" / a / e / "frames.csv")) {
           result.missing.push_back(world + "/" + a + "/" + e);
         }
       }
@@ -90,9 +87,13 @@ WorldsReportResult WriteWorldsReport(const WorldsReportOptions& options) {
   }
   if (records[reference].empty())
     throw std::runtime_error("the reference world '" + reference + "' has no results in " +
-                             options.worlds.front().second + "/approaches");
+                             reference_dir + "/approaches");
+  return records;
+}
 
-  std::ofstream out(options.path);
+// The title, what is missing, each world's run and how to read the tables.
+void WriteIntroduction(std::ostream& out, const WorldsReportOptions& options,
+                       const WorldsReportResult& result) {
   out << "# The cost of each realism effect\n\n";
   if (!result.missing.empty()) {
     out << "**INCOMPLETE:** missing: ";
@@ -116,45 +117,103 @@ WorldsReportResult WriteWorldsReport(const WorldsReportOptions& options) {
       << percent
       << " % Student-t interval in brackets. Cost: per approach the ratio of a world's error to "
          "the "
-      << reference
+      << options.worlds.front().first
       << " world's on the same approach, then the mean ratio over approaches (1: no cost).\n";
+}
 
+// One world's figures for one experiment in one region, over approaches.
+struct WorldRow {
+  std::string experiment;
+  std::string world;
+  bool reference = false;  // the reference world: no cost
+  Interval coverage, position, attitude, position_cost, attitude_cost;
+};
+
+// The figures of `world` for experiment e in region `key`; the costs against the reference
+// world on the same approaches.
+WorldRow ComputeWorldRow(const WorldsReportOptions& options, WorldRecords& records,
+                         const std::string& e, const std::string& world, const std::string& key) {
+  const std::string& reference = options.worlds.front().first;
+  std::vector<double> coverage, position, attitude, position_cost, attitude_cost;
+  for (const auto& [a, frames] : records[world][e]) {
+    const RegionFigures f = Figures(frames, key);
+    coverage.push_back(f.coverage());
+    position.push_back(f.position_m);
+    attitude.push_back(f.attitude_deg);
+    const auto ref = records[reference][e].find(a);
+    if (world == reference || ref == records[reference][e].end()) continue;
+    const RegionFigures r = Figures(ref->second, key);
+    position_cost.push_back(r.position_m > 0.0 ? f.position_m / r.position_m : Nan());
+    attitude_cost.push_back(r.attitude_deg > 0.0 ? f.attitude_deg / r.attitude_deg : Nan());
+  }
+  const double confidence = options.confidence;
+  WorldRow row;
+  row.experiment = e;
+  row.world = world;
+  row.reference = world == reference;
+  row.coverage = MeanInterval(coverage, confidence);
+  // A share: the t interval clipped to what can be.
+  row.coverage.low = std::max(row.coverage.low, 0.0);
+  row.coverage.high = std::min(row.coverage.high, 100.0);
+  row.position = MeanInterval(position, confidence);
+  row.attitude = MeanInterval(attitude, confidence);
+  row.position_cost = MeanInterval(position_cost, confidence);
+  row.attitude_cost = MeanInterval(attitude_cost, confidence);
+  return row;
+}
+
+const Columns<WorldRow>& WorldColumns() {
+  // A cost cell: "-" in the reference world's row.
+  const auto cost = [](Interval WorldRow::*interval) {
+    return [interval](const WorldRow& r) {
+      return r.reference ? std::string("-") : FormatInterval(r.*interval, 2);
+    };
+  };
+  static const Columns<WorldRow> columns = {
+      {"experiment", Align::kLeft, [](const WorldRow& r) { return r.experiment; }},
+      {"world", Align::kLeft, [](const WorldRow& r) { return r.world; }},
+      {"approaches", Align::kRight, [](const WorldRow& r) { return std::to_string(r.coverage.n); }},
+      {"coverage (%)", Align::kRight,
+       [](const WorldRow& r) { return FormatInterval(r.coverage, 1); }},
+      {"position (m)", Align::kRight,
+       [](const WorldRow& r) { return FormatInterval(r.position, 3); }},
+      {"attitude (deg)", Align::kRight,
+       [](const WorldRow& r) { return FormatInterval(r.attitude, 3); }},
+      {"position cost", Align::kRight, cost(&WorldRow::position_cost)},
+      {"attitude cost", Align::kRight, cost(&WorldRow::attitude_cost)}};
+  return columns;
+}
+
+// Per region, a row per experiment and world.
+void WriteRegionTables(std::ostream& out, const WorldsReportOptions& options,
+                       WorldRecords& records) {
+  const std::string& reference = options.worlds.front().first;
   for (const auto& [key, title] : RegionTitles()) {
-    out << "\n## " << title << "\n\n| experiment | world | approaches | coverage (%) | position "
-        << "(m) | attitude (deg) | position cost | attitude cost |\n"
-        << "|---|---|---:|---:|---:|---:|---:|---:|\n";
+    out << "\n## " << title << "\n\n";
+    WriteTableHead(out, WorldColumns());
     for (const auto& e : options.experiments) {
       if (!records[reference].count(e)) continue;
       for (const auto& [world, dir] : options.worlds) {
-        const auto& by_approach = records[world][e];
-        if (by_approach.empty()) continue;
-        std::vector<double> coverage, position, attitude, position_cost, attitude_cost;
-        for (const auto& [a, frames] : by_approach) {
-          const RegionFigures f = Figures(frames, key);
-          coverage.push_back(f.coverage());
-          position.push_back(f.position_m);
-          attitude.push_back(f.attitude_deg);
-          const auto ref = records[reference][e].find(a);
-          if (world == reference || ref == records[reference][e].end()) continue;
-          const RegionFigures r = Figures(ref->second, key);
-          position_cost.push_back(r.position_m > 0.0 ? f.position_m / r.position_m : Nan());
-          attitude_cost.push_back(r.attitude_deg > 0.0 ? f.attitude_deg / r.attitude_deg : Nan());
-        }
-        Interval c = MeanInterval(coverage, options.confidence);
-        c.low = std::max(c.low, 0.0);  // a share: the t interval clipped to what can be
-        c.high = std::min(c.high, 100.0);
-        out << "| " << e << " | " << world << " | " << c.n << " | " << FormatInterval(c, 1) << " | "
-            << FormatInterval(MeanInterval(position, options.confidence), 3) << " | "
-            << FormatInterval(MeanInterval(attitude, options.confidence), 3) << " | ";
-        if (world == reference) {
-          out << "- | - |\n";
-        } else {
-          out << FormatInterval(MeanInterval(position_cost, options.confidence), 2) << " | "
-              << FormatInterval(MeanInterval(attitude_cost, options.confidence), 2) << " |\n";
-        }
+        if (records[world][e].empty()) continue;
+        WriteTableRow(out, WorldColumns(), ComputeWorldRow(options, records, e, world, key));
       }
     }
   }
+}
+
+}  // namespace
+
+WorldsReportResult WriteWorldsReport(const WorldsReportOptions& options) {
+  if (options.worlds.size() < 2)
+    throw std::invalid_argument("a worlds report needs the reference world and at least one more");
+  if (options.experiments.empty()) throw std::invalid_argument("a worlds report needs experiments");
+  WorldsReportResult result;
+  result.path = options.path;
+  WorldRecords records = ReadWorlds(options, result);
+
+  std::ofstream out(options.path);
+  WriteIntroduction(out, options, result);
+  WriteRegionTables(out, options, records);
   out.close();  // flushes: a full disk shows here, not in the buffered writes
   if (out.fail()) throw std::runtime_error(options.path + ": write failed");
   return result;

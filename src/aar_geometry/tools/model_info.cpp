@@ -103,98 +103,131 @@ void ReportMesh(const TriangleMesh& mesh, double weld_epsilon) {
   }
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
-  std::string file, samples_csv;
+struct Options {
+  std::string file;
+  std::string samples_csv;
   bool collision = false;
   double weld_epsilon = 1e-4;
   SurfaceSamplingOptions sampling;
   std::map<std::string, double> joints;
-  try {
-    for (int i = 1; i < argc; ++i) {
-      const std::string arg = argv[i];
-      auto value = [&]() -> std::string {
-        if (i + 1 >= argc) throw std::invalid_argument(arg + " needs a value");
-        return argv[++i];
-      };
-      if (arg == "-h" || arg == "--help") {
-        Usage();
-        return 0;
-      } else if (arg == "--collision") {
-        collision = true;
-      } else if (arg == "--joint") {
-        const std::string kv = value();
-        const size_t eq = kv.find('=');
-        if (eq == std::string::npos || eq == 0) {
-          throw std::invalid_argument("--joint takes NAME=VALUE, not '" + kv + "'");
-        }
-        const std::string name = kv.substr(0, eq);
-        joints[name] = ParseNumber("--joint " + name, kv.substr(eq + 1));
-      } else if (arg == "--weld") {
-        weld_epsilon = ParseNumber("--weld", value());
-        if (weld_epsilon < 0.0) throw std::invalid_argument("--weld must not be negative");
-      } else if (arg == "--samples") {
-        sampling.num_points = ParseCount("--samples", value(), 1);
-      } else if (arg == "--seed") {
-        sampling.seed = ParseCount("--seed", value(), 0);
-      } else if (arg == "--samples-csv") {
-        samples_csv = value();
-      } else if (!arg.empty() && arg[0] == '-') {
-        throw std::invalid_argument("unknown option " + arg);
-      } else if (file.empty()) {
-        file = arg;
-      } else {
-        throw std::invalid_argument("more than one FILE given");
+  bool help = false;  // -h or --help: the rest is not read
+};
+
+// The command line; invalid_argument saying what is wrong with it.
+Options ParseArguments(int argc, char** argv) {
+  Options options;
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    auto value = [&]() -> std::string {
+      if (i + 1 >= argc) throw std::invalid_argument(arg + " needs a value");
+      return argv[++i];
+    };
+    if (arg == "-h" || arg == "--help") {
+      options.help = true;
+      return options;
+    } else if (arg == "--collision") {
+      options.collision = true;
+    } else if (arg == "--joint") {
+      const std::string kv = value();
+      const size_t eq = kv.find('=');
+      if (eq == std::string::npos || eq == 0) {
+        throw std::invalid_argument("--joint takes NAME=VALUE, not '" + kv + "'");
       }
+      const std::string name = kv.substr(0, eq);
+      options.joints[name] = ParseNumber("--joint " + name, kv.substr(eq + 1));
+    } else if (arg == "--weld") {
+      options.weld_epsilon = ParseNumber("--weld", value());
+      if (options.weld_epsilon < 0.0) throw std::invalid_argument("--weld must not be negative");
+    } else if (arg == "--samples") {
+      options.sampling.num_points = ParseCount("--samples", value(), 1);
+    } else if (arg == "--seed") {
+      options.sampling.seed = ParseCount("--seed", value(), 0);
+    } else if (arg == "--samples-csv") {
+      options.samples_csv = value();
+    } else if (!arg.empty() && arg[0] == '-') {
+      throw std::invalid_argument("unknown option " + arg);
+    } else if (options.file.empty()) {
+      options.file = arg;
+    } else {
+      throw std::invalid_argument("more than one FILE given");
     }
-    if (file.empty()) throw std::invalid_argument("no FILE given");
-    if (!samples_csv.empty() && sampling.num_points == 0) {
-      throw std::invalid_argument("--samples-csv needs --samples N");
-    }
+  }
+  if (options.file.empty()) throw std::invalid_argument("no FILE given");
+  if (!options.samples_csv.empty() && options.sampling.num_points == 0) {
+    throw std::invalid_argument("--samples-csv needs --samples N");
+  }
+  return options;
+}
+
+// A URDF's links and joints, and its visual or collision geometry at the given joint positions.
+TriangleMesh LoadRobotGeometry(const Options& options) {
+  const RobotModel model = LoadRobotModel(options.file);
+  CheckJointLimits(model, options.joints);
+  std::cout << "robot: " << model.name << " (root link " << model.root_link << ", "
+            << model.links.size() << " links, " << model.joints.size() << " joints)\n";
+  for (const auto& joint : model.joints) {
+    std::cout << "  joint " << joint.name << ": " << joint.parent_link << " -> " << joint.child_link
+              << (joint.movable() ? ", movable" : ", fixed") << "\n";
+  }
+  std::cout << (options.collision ? "collision" : "visual") << " geometry:\n";
+  TriangleMesh mesh =
+      RobotMesh(model, ComputeLinkPoses(model, options.joints),
+                options.collision ? GeometryKind::kCollision : GeometryKind::kVisual);
+  if (mesh.empty()) throw LoadError(options.file, "the model has no such geometry");
+  return mesh;
+}
+
+// The mesh of FILE: a URDF's geometry, or a mesh file as LoadMesh reads it.
+TriangleMesh LoadGeometry(const Options& options) {
+  if (EndsWith(options.file, ".urdf")) return LoadRobotGeometry(options);
+  if (!options.joints.empty() || options.collision)
+    throw std::invalid_argument("--joint/--collision need a URDF");
+  return LoadMesh(options.file);
+}
+
+// Samples as x,y,z,nx,ny,nz,part with 6 significant digits.
+void WriteSamplesCsv(const std::string& path, const TriangleMesh& mesh,
+                     const SurfaceSamples& samples) {
+  std::ofstream out(path);
+  if (!out) throw LoadError(path, "cannot be written");
+  out << "x,y,z,nx,ny,nz,part\n" << std::setprecision(6);
+  for (size_t i = 0; i < samples.size(); ++i) {
+    const auto& p = samples.points[i];
+    const auto& n = samples.normals[i];
+    out << p.x() << ',' << p.y() << ',' << p.z() << ',' << n.x() << ',' << n.y() << ',' << n.z()
+        << ',' << CsvField(mesh.part_names[samples.parts[i]]) << '\n';
+  }
+}
+
+// Draws the surface samples the options ask for, reports their number and writes them as CSV if
+// asked.
+void ReportSamples(const TriangleMesh& mesh, const Options& options) {
+  const SurfaceSamples samples = SampleSurface(mesh, options.sampling);
+  std::cout << "samples: " << samples.size() << " (seed " << options.sampling.seed << ")\n";
+  if (options.samples_csv.empty()) return;
+  WriteSamplesCsv(options.samples_csv, mesh, samples);
+  std::cout << "wrote " << options.samples_csv << "\n";
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Options options;
+  try {
+    options = ParseArguments(argc, argv);
   } catch (const std::exception& e) {
     std::cerr << "model_info: " << e.what() << "\n";
     Usage();
     return 2;
   }
-
+  if (options.help) {
+    Usage();
+    return 0;
+  }
   try {
-    TriangleMesh mesh;
-    if (EndsWith(file, ".urdf")) {
-      const RobotModel model = LoadRobotModel(file);
-      CheckJointLimits(model, joints);
-      std::cout << "robot: " << model.name << " (root link " << model.root_link << ", "
-                << model.links.size() << " links, " << model.joints.size() << " joints)\n";
-      for (const auto& joint : model.joints) {
-        std::cout << "  joint " << joint.name << ": " << joint.parent_link << " -> "
-                  << joint.child_link << (joint.movable() ? ", movable" : ", fixed") << "\n";
-      }
-      std::cout << (collision ? "collision" : "visual") << " geometry:\n";
-      mesh = RobotMesh(model, ComputeLinkPoses(model, joints),
-                       collision ? GeometryKind::kCollision : GeometryKind::kVisual);
-      if (mesh.empty()) throw LoadError(file, "the model has no such geometry");
-    } else {
-      if (!joints.empty() || collision)
-        throw std::invalid_argument("--joint/--collision need a URDF");
-      mesh = LoadMesh(file);
-    }
-    ReportMesh(mesh, weld_epsilon);
-    if (sampling.num_points > 0) {
-      const SurfaceSamples samples = SampleSurface(mesh, sampling);
-      std::cout << "samples: " << samples.size() << " (seed " << sampling.seed << ")\n";
-      if (!samples_csv.empty()) {
-        std::ofstream out(samples_csv);
-        if (!out) throw LoadError(samples_csv, "cannot be written");
-        out << "x,y,z,nx,ny,nz,part\n" << std::setprecision(6);
-        for (size_t i = 0; i < samples.size(); ++i) {
-          const auto& p = samples.points[i];
-          const auto& n = samples.normals[i];
-          out << p.x() << ',' << p.y() << ',' << p.z() << ',' << n.x() << ',' << n.y() << ','
-              << n.z() << ',' << CsvField(mesh.part_names[samples.parts[i]]) << '\n';
-        }
-        std::cout << "wrote " << samples_csv << "\n";
-      }
-    }
+    const TriangleMesh mesh = LoadGeometry(options);
+    ReportMesh(mesh, options.weld_epsilon);
+    if (options.sampling.num_points > 0) ReportSamples(mesh, options);
   } catch (const std::exception& e) {
     std::cerr << "model_info: " << e.what() << "\n";
     return 1;

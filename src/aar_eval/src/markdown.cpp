@@ -1,0 +1,37 @@
+#include "markdown.h"
+
+#include <fstream>
+#include <iomanip>
+#include <sstream>
+
+namespace aar_eval {
+
+void WriteMarkdownRow(std::ostream& out, const std::vector<std::string>& cells) {
+  out << "|";
+  for (const auto& cell : cells) out << ' ' << cell << " |";
+  out << "\n";
+}
+
+void WriteMarkdownRule(std::ostream& out, const std::vector<Align>& aligns) {
+  out << "|";
+  for (Align align : aligns) out << (align == Align::kRight ? "---:|" : "---|");
+  out << "\n";
+}
+
+std::string RegionColumnHeader(const std::string& key) {
+  return key == "all" ? "whole approach" : "region " + key;
+}
+
+std::string Fixed(double value, int digits) {
+  std::ostringstream s;
+  s << std::fixed << std::setprecision(digits) << value;
+  return s.str();
+}
+
+void WriteRunSection(std::ostream& out, const std::string& dir) {
+  std::ifstream run(dir + "/run.txt");
+  if (run && run.peek() != std::ifstream::traits_type::eof())
+    out << "## Run\n\n```\n" << run.rdbuf() << "```\n\n";
+}
+
+}  // namespace aar_eval
