@@ -53,6 +53,131 @@ const aar_geometry::Joint* BoomJoint(const std::string& path, const std::string&
                   where + "column '" + name + "': the boom model has no joint '" + name + "'");
 }
 
+// FlightPath::Load's steps.
+
+// A CSV file's lines, blank lines and '#' comments skipped, with their line numbers.
+class CsvLines {
+ public:
+  explicit CsvLines(const std::string& path) : in_(path) {}
+  bool Next(std::string* line) {
+    while (std::getline(in_, *line)) {
+      ++line_number_;
+      if (line->find_first_not_of(" \t\r") == std::string::npos || (*line)[0] == '#') continue;
+      return true;
+    }
+    return false;
+  }
+  std::string Where() const { return "line " + std::to_string(line_number_) + ": "; }
+
+ private:
+  std::ifstream in_;
+  int line_number_ = 0;
+};
+
+struct CsvHeader {
+  std::vector<std::string> names;
+  std::map<std::string, size_t> column;  // by name
+  bool boom = false;                     // with the three boom columns
+  std::string where;                     // "line N: "
+};
+
+// The header line: every required column, each column once, the boom columns all or none.
+CsvHeader ReadHeader(const std::string& path, CsvLines* csv) {
+  CsvHeader header;
+  std::string line;
+  while (header.names.empty() && csv->Next(&line)) header.names = SplitCsv(line);
+  if (header.names.empty()) {
+    throw LoadError(path, "no header line (expected t,x,y,z,roll,pitch,yaw)");
+  }
+  header.where = csv->Where();
+  for (size_t c = 0; c < header.names.size(); ++c) {
+    if (!header.column.emplace(header.names[c], c).second) {
+      throw LoadError(path, header.where + "column '" + header.names[c] + "' appears twice");
+    }
+  }
+  for (const auto& name : kRequired) {
+    if (!header.column.count(name)) {
+      throw LoadError(path, header.where + "missing column '" + name + "'");
+    }
+  }
+  const int boom_columns =
+      static_cast<int>(std::count_if(kBoom.begin(), kBoom.end(), [&](const std::string& n) {
+        return header.column.count(n) > 0;
+      }));
+  if (boom_columns != 0 && boom_columns != 3) {
+    throw LoadError(path, header.where +
+                              "boom columns must be all of boom_pitch, boom_roll, "
+                              "boom_extension or none");
+  }
+  header.boom = boom_columns == 3;
+  return header;
+}
+
+// Boom columns: CSV name, joint, CSV unit per joint unit (deg per rad or m per m), unit name.
+struct BoomColumn {
+  std::string name;
+  const aar_geometry::Joint* joint;
+  double scale;
+  const char* unit;
+};
+
+std::vector<BoomColumn> BoomLimits(const std::string& path, const CsvHeader& header,
+                                   const FlightPathOptions& options) {
+  std::vector<BoomColumn> boom_limits;
+  if (!header.boom) return boom_limits;
+  for (const auto& name : kBoom) {
+    const bool angle = name != "boom_extension";
+    boom_limits.push_back({name, BoomJoint(path, header.where, options, name),
+                           angle ? RadToDeg(1.0) : 1.0, angle ? " deg" : " m"});
+  }
+  return boom_limits;
+}
+
+// One data row's cells, for messages naming the file, line and column.
+struct RowCells {
+  const std::string& path;
+  const std::string& where;  // "line N: "
+  const CsvHeader& header;
+  const std::vector<std::string>& cells;
+
+  const std::string& Cell(const std::string& name) const { return cells[header.column.at(name)]; }
+  double Number(const std::string& name) const {
+    const std::string& cell = Cell(name);
+    char* end = nullptr;
+    const double value = std::strtod(cell.c_str(), &end);
+    if (cell.empty() || end != cell.c_str() + cell.size() || !std::isfinite(value)) {
+      throw LoadError(path, where + "column '" + name + "': '" + cell + "' is not a finite number");
+    }
+    return value;
+  }
+};
+
+FlightPathRow ParseRow(const RowCells& r) {
+  FlightPathRow row;
+  row.t = r.Number("t");
+  row.position_m = {r.Number("x"), r.Number("y"), r.Number("z")};
+  row.rpy = {DegToRad(r.Number("roll")), DegToRad(r.Number("pitch")), DegToRad(r.Number("yaw"))};
+  if (r.header.boom) {
+    row.boom = BoomPose{DegToRad(r.Number("boom_pitch")), DegToRad(r.Number("boom_roll")),
+                        r.Number("boom_extension")};
+  }
+  return row;
+}
+
+// The joint states the sim publishes: outside the URDF's limits no real boom goes there.
+void CheckBoomLimits(const RowCells& r, const BoomPose& boom,
+                     const std::vector<BoomColumn>& boom_limits) {
+  const std::map<std::string, double> positions = aar_description::BoomJointPositions(boom);
+  for (const auto& c : boom_limits) {
+    if (c.joint == nullptr || c.joint->WithinLimits(positions.at(c.name))) continue;
+    std::ostringstream msg;
+    msg << r.where << "column " << r.header.column.at(c.name) + 1 << " '" << c.name
+        << "': " << r.Cell(c.name) << c.unit << " is outside the limits of joint '" << c.name
+        << "', " << c.joint->lower * c.scale << " to " << c.joint->upper * c.scale << c.unit;
+    throw LoadError(r.path, msg.str());
+  }
+}
+
 }  // namespace
 
 Eigen::Isometry3d FlightPathRow::T_tanker_receiver() const {
@@ -71,90 +196,21 @@ FlightPath::FlightPath(std::vector<FlightPathRow> rows) : rows_(std::move(rows))
 
 FlightPath FlightPath::Load(const std::string& path, const FlightPathOptions& options) {
   aar_geometry::CheckReadableFile(path);
-  std::ifstream in(path);
-  std::string line;
-  int line_number = 0;
-  std::vector<std::string> header;
-  while (header.empty() && std::getline(in, line)) {
-    ++line_number;
-    if (line.find_first_not_of(" \t\r") == std::string::npos || line[0] == '#') continue;
-    header = SplitCsv(line);
-  }
-  if (header.empty()) throw LoadError(path, "no header line (expected t,x,y,z,roll,pitch,yaw)");
-  const std::string where_header = "line " + std::to_string(line_number) + ": ";
-  std::map<std::string, size_t> column;
-  for (size_t c = 0; c < header.size(); ++c) {
-    if (!column.emplace(header[c], c).second) {
-      throw LoadError(path, where_header + "column '" + header[c] + "' appears twice");
-    }
-  }
-  for (const auto& name : kRequired) {
-    if (!column.count(name)) throw LoadError(path, where_header + "missing column '" + name + "'");
-  }
-  const int boom_columns = static_cast<int>(std::count_if(
-      kBoom.begin(), kBoom.end(), [&](const std::string& n) { return column.count(n) > 0; }));
-  if (boom_columns != 0 && boom_columns != 3) {
-    throw LoadError(path, where_header +
-                              "boom columns must be all of boom_pitch, boom_roll, "
-                              "boom_extension or none");
-  }
-
-  // Boom columns: CSV name, joint, CSV unit per joint unit (deg per rad or m per m), unit name.
-  struct BoomColumn {
-    std::string name;
-    const aar_geometry::Joint* joint;
-    double scale;
-    const char* unit;
-  };
-  std::vector<BoomColumn> boom_limits;
-  if (boom_columns == 3) {
-    for (const auto& name : kBoom) {
-      const bool angle = name != "boom_extension";
-      boom_limits.push_back({name, BoomJoint(path, where_header, options, name),
-                             angle ? RadToDeg(1.0) : 1.0, angle ? " deg" : " m"});
-    }
-  }
-
+  CsvLines csv(path);
+  const CsvHeader header = ReadHeader(path, &csv);
+  const std::vector<BoomColumn> boom_limits = BoomLimits(path, header, options);
   std::vector<FlightPathRow> rows;
-  while (std::getline(in, line)) {
-    ++line_number;
-    if (line.find_first_not_of(" \t\r") == std::string::npos || line[0] == '#') continue;
-    const std::string where = "line " + std::to_string(line_number) + ": ";
+  std::string line;
+  while (csv.Next(&line)) {
+    const std::string where = csv.Where();
     const std::vector<std::string> cells = SplitCsv(line);
-    if (cells.size() != header.size()) {
+    if (cells.size() != header.names.size()) {
       throw LoadError(path, where + std::to_string(cells.size()) + " cells, header has " +
-                                std::to_string(header.size()));
+                                std::to_string(header.names.size()));
     }
-    auto number = [&](const std::string& name) {
-      const std::string& cell = cells[column.at(name)];
-      char* end = nullptr;
-      const double value = std::strtod(cell.c_str(), &end);
-      if (cell.empty() || end != cell.c_str() + cell.size() || !std::isfinite(value)) {
-        throw LoadError(path,
-                        where + "column '" + name + "': '" + cell + "' is not a finite number");
-      }
-      return value;
-    };
-    FlightPathRow row;
-    row.t = number("t");
-    row.position_m = {number("x"), number("y"), number("z")};
-    row.rpy = {DegToRad(number("roll")), DegToRad(number("pitch")), DegToRad(number("yaw"))};
-    if (boom_columns == 3) {
-      row.boom = BoomPose{DegToRad(number("boom_pitch")), DegToRad(number("boom_roll")),
-                          number("boom_extension")};
-      // The joint states the sim publishes: outside the URDF's limits no real boom goes there.
-      const std::map<std::string, double> positions =
-          aar_description::BoomJointPositions(*row.boom);
-      for (const auto& c : boom_limits) {
-        if (c.joint == nullptr || c.joint->WithinLimits(positions.at(c.name))) continue;
-        std::ostringstream msg;
-        msg << where << "column " << column.at(c.name) + 1 << " '" << c.name
-            << "': " << cells[column.at(c.name)] << c.unit << " is outside the limits of joint '"
-            << c.name << "', " << c.joint->lower * c.scale << " to " << c.joint->upper * c.scale
-            << c.unit;
-        throw LoadError(path, msg.str());
-      }
-    }
+    const RowCells row_cells{path, where, header, cells};
+    const FlightPathRow row = ParseRow(row_cells);
+    if (row.boom) CheckBoomLimits(row_cells, *row.boom, boom_limits);
     rows.push_back(row);
     try {
       CheckIncreasing(rows, rows.size() - 1);

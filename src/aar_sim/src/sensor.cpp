@@ -71,6 +71,143 @@ double BoxDistance(const Eigen::AlignedBox3d& box, const Eigen::Vector3d& p) {
   return (box.min() - p).cwiseMax(p - box.max()).cwiseMax(0.0).norm();
 }
 
+// Motion blur's steps (MotionBlur below).
+
+// A pixel whose body moves it by (dx, dy) [px] over the exposure.
+struct MovingPixel {
+  int u, v;
+  float dx, dy;
+};
+
+struct PixelBox {
+  int u_min, u_max, v_min, v_max;  // inclusive
+};
+
+// The moving pixels and the box they cover during the exposure (it may leave the image).
+struct MovingPixels {
+  std::vector<MovingPixel> pixels;
+  PixelBox reach;
+};
+
+// Of the bodies with a pixel's label, the one nearest to its point p (optical frame).
+const BodyMotion* NearestBody(const std::vector<const BodyMotion*>& candidates,
+                              const Eigen::Vector3d& p) {
+  const BodyMotion* body = candidates.front();
+  if (candidates.size() > 1) {
+    double best = std::numeric_limits<double>::infinity();
+    for (const BodyMotion* b : candidates) {
+      const double d = BoxDistance(b->box_in_body, b->T_body_optical * p);
+      if (d < best) best = d, body = b;
+    }
+  }
+  return body;
+}
+
+// Each pixel's image motion d over the exposure [px]: back-projected with its depth, moved with
+// its body (the nearest one of its label), projected again. Background and unmoved bodies: 0.
+MovingPixels FindMovingPixels(const Image<uint8_t>& label, const Image<float>& depth,
+                              const ViewMotion& motion) {
+  const int w = depth.width, h = depth.height;
+  const CameraIntrinsics& k = motion.intrinsics;
+  std::array<std::vector<const BodyMotion*>, 256> bodies_of;  // by label value
+  for (const auto& [body_label, body] : motion.bodies)
+    bodies_of[static_cast<uint8_t>(body_label)].push_back(&body);
+  MovingPixels moving;
+  moving.reach = {w, -1, h, -1};
+  auto& r = moving.reach;
+  for (int v = 0; v < h; ++v) {
+    const float* z_row = &depth.at(0, v);
+    const uint8_t* label_row = &label.at(0, v);
+    for (int u = 0; u < w; ++u) {
+      const float z = z_row[u];
+      if (!(z > 0.0f)) continue;
+      const std::vector<const BodyMotion*>& candidates = bodies_of[label_row[u]];
+      if (candidates.empty()) continue;
+      const Eigen::Vector3d p(z * (u - k.cx) / k.fx, z * (v - k.cy) / k.fy, z);
+      const Eigen::Vector3d q = NearestBody(candidates, p)->T_end_start * p;
+      if (!(q.z() > 0.0)) continue;
+      const Eigen::Vector2d d = k.Project(q) - Eigen::Vector2d(u, v);
+      if (d.squaredNorm() < 1e-6) continue;  // below a thousandth of a pixel: still
+      moving.pixels.push_back({u, v, static_cast<float>(d.x()), static_cast<float>(d.y())});
+      r.u_min = std::min(r.u_min, u + static_cast<int>(std::floor(std::min(0.0, d.x()))));
+      r.u_max = std::max(r.u_max, u + static_cast<int>(std::ceil(std::max(0.0, d.x()))));
+      r.v_min = std::min(r.v_min, v + static_cast<int>(std::floor(std::min(0.0, d.y()))));
+      r.v_max = std::max(r.v_max, v + static_cast<int>(std::ceil(std::max(0.0, d.y()))));
+    }
+  }
+  return moving;
+}
+
+// Leading edges' coverage, kept only over the moving pixels' reach (clipped to the image): per
+// pixel, the fraction of the exposure a moving body covers it and that body's radiance times it.
+struct BlurCoverage {
+  BlurCoverage(const PixelBox& reach, int w, int h)
+      : u_min(std::max(reach.u_min, 0)),
+        u_max(std::min(reach.u_max, w - 1)),
+        v_min(std::max(reach.v_min, 0)),
+        v_max(std::min(reach.v_max, h - 1)),
+        box_w(u_max - u_min + 1),
+        box_h(v_max - v_min + 1),
+        coverage(static_cast<size_t>(box_w) * box_h, 0.0f),
+        covered(coverage.size(), 0.0f) {}
+  size_t Index(int u, int v) const { return static_cast<size_t>(v - v_min) * box_w + (u - u_min); }
+
+  int u_min, u_max, v_min, v_max, box_w, box_h;
+  std::vector<float> coverage, covered;
+};
+
+// Trailing edges and interiors (gather): a pixel that a point of its body crosses during the
+// exposure shows what was at q - s d at the start, for s over the exposure; beyond the trailing
+// edge that is the background next to it (what the body uncovers is not rendered). Returns each
+// moving pixel's gathered radiance.
+// Leading edges (scatter): a body covers the pixels in front of it, nearer than what they show,
+// for part of the exposure; each covering tap adds 1/taps of coverage and of its radiance.
+std::vector<float> GatherAndScatter(const Image<float>& radiance, const Image<uint8_t>& label,
+                                    const Image<float>& depth, const MovingPixels& moving,
+                                    BlurCoverage* cover) {
+  const int w = radiance.width;
+  std::vector<float> gathered(moving.pixels.size());
+  constexpr int kMaxTaps = 16;
+  constexpr float kShift = 4096.0f;  // rounds by truncation: u + s d is above -kShift
+  for (size_t m = 0; m < moving.pixels.size(); ++m) {
+    const MovingPixel& p = moving.pixels[m];
+    const size_t index = static_cast<size_t>(p.v) * w + p.u;
+    const float length = std::hypot(p.dx, p.dy);
+    const int taps = std::clamp(static_cast<int>(std::ceil(length)) + 1, 2, kMaxTaps);
+    const float r0 = radiance.data[index], z0 = depth.data[index], weight = 1.0f / taps;
+    const uint8_t l0 = label.data[index];
+    float sum = 0.0f;
+    for (int i = 0; i < taps; ++i) {
+      const float s = (i + 0.5f) * weight;  // mid-interval taps over the exposure
+      sum += Sample(radiance, p.u - s * p.dx, p.v - s * p.dy);
+      const int qu = static_cast<int>(p.u + s * p.dx + 0.5f + kShift) - static_cast<int>(kShift),
+                qv = static_cast<int>(p.v + s * p.dy + 0.5f + kShift) - static_cast<int>(kShift);
+      if (qu < cover->u_min || qv < cover->v_min || qu > cover->u_max || qv > cover->v_max)
+        continue;
+      const size_t q = static_cast<size_t>(qv) * w + qu;
+      const float zq = depth.data[q];
+      if (label.data[q] == l0 || (zq > 0.0f && zq <= z0)) continue;  // own body, or in front
+      const size_t b = cover->Index(qu, qv);
+      cover->coverage[b] += weight;
+      cover->covered[b] += r0 * weight;
+    }
+    gathered[m] = sum * weight;
+  }
+  return gathered;
+}
+
+// The leading edges over the gathered image, by their coverage (at most the whole exposure).
+void BlendLeadingEdges(const BlurCoverage& cover, Image<float>* out) {
+  for (int v = cover.v_min; v <= cover.v_max; ++v) {
+    for (int u = cover.u_min; u <= cover.u_max; ++u) {
+      const size_t b = cover.Index(u, v);
+      if (cover.coverage[b] <= 0.0f) continue;
+      const float c = std::min(cover.coverage[b], 1.0f);
+      out->at(u, v) = (1.0f - c) * out->at(u, v) + c * cover.covered[b] / cover.coverage[b];
+    }
+  }
+}
+
 }  // namespace
 
 void SensorOptions::Validate() const {
@@ -147,95 +284,14 @@ Image<float> MotionBlur(const Image<float>& radiance, const Image<uint8_t>& labe
                                 std::to_string(w) + "x" + std::to_string(h) + ")");
   }
   if (motion.bodies.empty()) return radiance;
-  const CameraIntrinsics& k = motion.intrinsics;
-  std::array<std::vector<const BodyMotion*>, 256> bodies_of;  // by label value
-  for (const auto& [body_label, body] : motion.bodies)
-    bodies_of[static_cast<uint8_t>(body_label)].push_back(&body);
-  // Each pixel's image motion d over the exposure [px]: back-projected with its depth, moved with
-  // its body (the nearest one of its label), projected again. Background and unmoved bodies: 0.
-  struct Moving {
-    int u, v;
-    float dx, dy;
-  };
-  std::vector<Moving> moving;
-  int u_min = w, u_max = -1, v_min = h, v_max = -1;  // where the moving pixels cover others
-  for (int v = 0; v < h; ++v) {
-    const float* z_row = &depth.at(0, v);
-    const uint8_t* label_row = &label.at(0, v);
-    for (int u = 0; u < w; ++u) {
-      const float z = z_row[u];
-      if (!(z > 0.0f)) continue;
-      const std::vector<const BodyMotion*>& candidates = bodies_of[label_row[u]];
-      if (candidates.empty()) continue;
-      const Eigen::Vector3d p(z * (u - k.cx) / k.fx, z * (v - k.cy) / k.fy, z);
-      const BodyMotion* body = candidates.front();
-      if (candidates.size() > 1) {
-        double best = std::numeric_limits<double>::infinity();
-        for (const BodyMotion* b : candidates) {
-          const double d = BoxDistance(b->box_in_body, b->T_body_optical * p);
-          if (d < best) best = d, body = b;
-        }
-      }
-      const Eigen::Vector3d q = body->T_end_start * p;
-      if (!(q.z() > 0.0)) continue;
-      const Eigen::Vector2d d = k.Project(q) - Eigen::Vector2d(u, v);
-      if (d.squaredNorm() < 1e-6) continue;  // below a thousandth of a pixel: still
-      moving.push_back({u, v, static_cast<float>(d.x()), static_cast<float>(d.y())});
-      u_min = std::min(u_min, u + static_cast<int>(std::floor(std::min(0.0, d.x()))));
-      u_max = std::max(u_max, u + static_cast<int>(std::ceil(std::max(0.0, d.x()))));
-      v_min = std::min(v_min, v + static_cast<int>(std::floor(std::min(0.0, d.y()))));
-      v_max = std::max(v_max, v + static_cast<int>(std::ceil(std::max(0.0, d.y()))));
-    }
-  }
+  const MovingPixels moving = FindMovingPixels(label, depth, motion);
   Image<float> out = radiance;
-  if (moving.empty()) return out;
-
-  // Trailing edges and interiors (gather): a pixel that a point of its body crosses during the
-  // exposure shows what was at q - s d at the start, for s over the exposure; beyond the trailing
-  // edge that is the background next to it (what the body uncovers is not rendered).
-  // Leading edges (scatter): a body covers the pixels in front of it, nearer than what they show,
-  // for part of the exposure; each covering tap adds 1/taps of coverage and of its radiance.
-  // Coverage is kept only over the moving pixels' reach.
-  u_min = std::max(u_min, 0), v_min = std::max(v_min, 0);
-  u_max = std::min(u_max, w - 1), v_max = std::min(v_max, h - 1);
-  const int box_w = u_max - u_min + 1, box_h = v_max - v_min + 1;
-  std::vector<float> coverage(static_cast<size_t>(box_w) * box_h, 0.0f),
-      covered(coverage.size(), 0.0f);
-  std::vector<float> gathered(moving.size());
-  constexpr int kMaxTaps = 16;
-  constexpr float kShift = 4096.0f;  // rounds by truncation: u + s d is above -kShift
-  for (size_t m = 0; m < moving.size(); ++m) {
-    const Moving& p = moving[m];
-    const size_t index = static_cast<size_t>(p.v) * w + p.u;
-    const float length = std::hypot(p.dx, p.dy);
-    const int taps = std::clamp(static_cast<int>(std::ceil(length)) + 1, 2, kMaxTaps);
-    const float r0 = radiance.data[index], z0 = depth.data[index], weight = 1.0f / taps;
-    const uint8_t l0 = label.data[index];
-    float sum = 0.0f;
-    for (int i = 0; i < taps; ++i) {
-      const float s = (i + 0.5f) * weight;  // mid-interval taps over the exposure
-      sum += Sample(radiance, p.u - s * p.dx, p.v - s * p.dy);
-      const int qu = static_cast<int>(p.u + s * p.dx + 0.5f + kShift) - static_cast<int>(kShift),
-                qv = static_cast<int>(p.v + s * p.dy + 0.5f + kShift) - static_cast<int>(kShift);
-      if (qu < u_min || qv < v_min || qu > u_max || qv > v_max) continue;
-      const size_t q = static_cast<size_t>(qv) * w + qu;
-      const float zq = depth.data[q];
-      if (label.data[q] == l0 || (zq > 0.0f && zq <= z0)) continue;  // own body, or in front
-      const size_t b = static_cast<size_t>(qv - v_min) * box_w + (qu - u_min);
-      coverage[b] += weight;
-      covered[b] += r0 * weight;
-    }
-    gathered[m] = sum * weight;
-  }
-  for (size_t m = 0; m < moving.size(); ++m) out.at(moving[m].u, moving[m].v) = gathered[m];
-  for (int v = v_min; v <= v_max; ++v) {
-    for (int u = u_min; u <= u_max; ++u) {
-      const size_t b = static_cast<size_t>(v - v_min) * box_w + (u - u_min);
-      if (coverage[b] <= 0.0f) continue;
-      const float c = std::min(coverage[b], 1.0f);
-      out.at(u, v) = (1.0f - c) * out.at(u, v) + c * covered[b] / coverage[b];
-    }
-  }
+  if (moving.pixels.empty()) return out;
+  BlurCoverage coverage(moving.reach, w, h);
+  const std::vector<float> gathered = GatherAndScatter(radiance, label, depth, moving, &coverage);
+  for (size_t m = 0; m < moving.pixels.size(); ++m)
+    out.at(moving.pixels[m].u, moving.pixels[m].v) = gathered[m];
+  BlendLeadingEdges(coverage, &out);
   return out;
 }
 

@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdlib>
 #include <filesystem>
 
 #include <opencv2/calib3d.hpp>
@@ -290,6 +291,28 @@ TEST(Renderer, MissingModelsAndBadIntrinsicsFailClearly) {
   RendererOptions bad;
   bad.intrinsics.width = 0;
   EXPECT_THROW(Renderer{bad}, RenderError);
+}
+
+// The GLSL is read from files at construction: a missing one is named in the error.
+TEST(Renderer, MissingShaderFileIsNamed) {
+  const char* previous = std::getenv("AAR_SIM_SHADER_DIR");
+  const std::string saved = previous ? previous : "";
+  setenv("AAR_SIM_SHADER_DIR", "/nonexistent/shaders", 1);
+  RendererOptions o;
+  o.intrinsics = CameraIntrinsics::FromHorizontalFov(64, 48, 60.0);
+  try {
+    Renderer renderer(o);
+    ADD_FAILURE() << "no error without shader files";
+  } catch (const RenderError& e) {
+    EXPECT_NE(std::string(e.what()).find("/nonexistent/shaders/mesh_vertex.glsl"),
+              std::string::npos)
+        << e.what();
+  }
+  if (previous) {
+    setenv("AAR_SIM_SHADER_DIR", saved.c_str(), 1);
+  } else {
+    unsetenv("AAR_SIM_SHADER_DIR");
+  }
 }
 
 // Issue 16 background: the lower part of the view (the camera looks 25 deg down) is ground or

@@ -118,7 +118,9 @@ struct DrawItem {
 // Offscreen OpenGL 4.5 renderer through EGL: a GPU's EGL device where there is one, else Mesa's
 // surfaceless platform (llvmpipe), with no display server. Deterministic: the same inputs give
 // bit-identical images. Not thread-safe, but not tied to a thread: each call binds the context
-// on the caller's thread and releases it.
+// on the caller's thread and releases it. The GLSL is read at construction from the package's
+// shaders/ directory (installed with it; the environment variable AAR_SIM_SHADER_DIR overrides
+// where it is looked for); a missing file is a RenderError naming it.
 class Renderer {
  public:
   explicit Renderer(const RendererOptions& options);  // throws RenderError
@@ -148,19 +150,9 @@ class Renderer {
   Image<uint8_t> ConvertLikeR8Attachment(const Image<float>& radiance);
 
  public:
-  struct Gl;  // EGL and GL state (renderer.cpp)
+  struct Gl;  // EGL and OpenGL objects (src/renderer/gl_state.h), shared by the passes
 
  private:
-  void DrawBackground(const Eigen::Isometry3d& T_tanker_optical);  // issue 16 background pass
-  // The background pass's radiance, label and depth for this camera pose into the framebuffer:
-  // drawn once per pose, copied after (the background is fixed in the tanker frame).
-  void CopyBackground(const Eigen::Isometry3d& T_tanker_optical);
-  // The sun's shadow map of `items` (reused while they stay where they were); returns the
-  // transform from the tanker frame to the map's clip space.
-  Eigen::Matrix4d UpdateShadowMap(const std::vector<DrawItem>& items);
-  void DrawPropellers(const Eigen::Isometry3d& T_tanker_optical,
-                      const std::vector<PropellerItem>& propellers);
-
   RendererOptions options_;
   std::unique_ptr<Gl> gl_;
 };

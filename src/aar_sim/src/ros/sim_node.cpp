@@ -24,6 +24,14 @@ SimNode::SimNode(ros::NodeHandle nh, const SimNodeOptions& options)
       path_(FlightPath::Load(options.flight_path, {world_->boom_model().joints})),
       turbulence_(options.turbulence, path_.end_time()),
       it_(nh) {
+  CheckStartTime();
+  Advertise();
+  PublishStatic();
+  LogSettings();
+  LogRealism();
+}
+
+void SimNode::CheckStartTime() const {
   if (options_.start_time < path_.start_time() || options_.start_time > path_.end_time()) {
     throw std::invalid_argument(
         "start_time " + std::to_string(options_.start_time) + " s is outside the flight path (" +
@@ -33,6 +41,9 @@ SimNode::SimNode(ros::NodeHandle nh, const SimNodeOptions& options)
     throw std::invalid_argument(
         "stamp_offset + path start must be positive: stamps of 0 or less are not valid");
   }
+}
+
+void SimNode::Advertise() {
   // Raw cameras publish where a camera driver does (image_proc's rectify nodelets take them).
   const std::string image = options_.world.raw.enabled ? "image_raw" : "image_rect";
   left_pub_ = it_.advertiseCamera("stereo/left/" + image, 2);
@@ -46,19 +57,24 @@ SimNode::SimNode(ros::NodeHandle nh, const SimNodeOptions& options)
   if (options_.lockstep) {
     estimate_sub_ = nh_.subscribe("aar/pose_estimate", 10, &SimNode::OnEstimate, this);
   }
+}
+
+void SimNode::PublishStatic() {
   // The receiver model at truth, for rviz: latched, locked to the receiver_truth frame.
   marker_pub_ = nh_.advertise<visualization_msgs::Marker>("sim/receiver_model", 1, true);
   const aar_description::ReceiverDescription& receiver = options_.world.receiver;
   marker_pub_.publish(aar_ros_common::MeshMarker("receiver_truth", "receiver_truth", receiver.mesh,
                                                  aar_ros_common::Rgba(0.8f, 0.8f, 0.8f, 1.0f),
                                                  receiver.T_body_mesh, receiver.scale));
-
   const ros::Time now(options_.stamp_offset + path_.start_time());
   const StereoRig& rig = options_.world.rig;
   static_tf_.sendTransform(
       {ToTransformMsg(Eigen::Isometry3d::Identity(), now, "world", "tanker"),
        ToTransformMsg(rig.T_tanker_left_optical, now, "tanker", "stereo_left_optical"),
        ToTransformMsg(rig.T_tanker_right_optical(), now, "tanker", "stereo_right_optical")});
+}
+
+void SimNode::LogSettings() const {
   ROS_INFO_STREAM(
       "sim: " << path_.rows().size() << " path rows over " << path_.end_time() - path_.start_time()
               << " s from " << options_.flight_path << "; renderer "
@@ -76,6 +92,9 @@ SimNode::SimNode(ros::NodeHandle nh, const SimNodeOptions& options)
                             std::to_string(100.0 * world_->raw_left()->outside_fraction()) +
                             " % of raw pixels beyond the rendered view)"
                       : ""));
+}
+
+void SimNode::LogRealism() const {
   const SunOptions& sun = options_.world.renderer.sun;
   if (sun.enabled) {
     ROS_INFO_STREAM("sim: the sun at azimuth "
@@ -134,7 +153,7 @@ void SimNode::OnEstimate(const aar_msgs::PoseEstimate::ConstPtr& msg) {
   estimate_arrived_.notify_all();
 }
 
-void SimNode::Loop() {
+void SimNode::WaitToStart() const {
   if (options_.wait_for_subscribers) {
     ROS_INFO("sim: waiting for subscribers to both images");
     while (!stop_ && ros::ok() &&
@@ -145,11 +164,46 @@ void SimNode::Loop() {
   // In steps, so that a shutdown (the launch ending) is not held up by the delay.
   const ros::WallTime start = ros::WallTime::now() + ros::WallDuration(options_.start_delay);
   while (!stop_ && ros::ok() && ros::WallTime::now() < start) ros::WallDuration(0.05).sleep();
+}
+
+int SimNode::FrameCount() const {
   const int path_frames = static_cast<int>(std::floor(
                               (path_.end_time() - options_.start_time) * options_.rate + 1e-9)) +
                           1;
-  const int frames =
-      options_.max_frames > 0 ? std::min(options_.max_frames, path_frames) : path_frames;
+  return options_.max_frames > 0 ? std::min(options_.max_frames, path_frames) : path_frames;
+}
+
+StereoFrame SimNode::RenderFrame(int k, double t, const FlightPathRow& row, const BoomPose& boom) {
+  // Motion blur integrates from t to the exposure's end; the truth is the state at t.
+  std::optional<SceneState> exposure_end;
+  if (options_.world.sensor.motion_blur) {
+    const auto [row_end, boom_end] = StateAt(t + options_.world.sensor.exposure_time);
+    exposure_end = SceneState{row_end, boom_end};
+  }
+  try {
+    return world_->Render(row, boom, static_cast<uint64_t>(k), options_.publish_labels, false,
+                          exposure_end ? &*exposure_end : nullptr);
+  } catch (const std::exception& e) {
+    throw std::runtime_error("rendering frame " + std::to_string(k) + " failed: " + e.what());
+  }
+}
+
+bool SimNode::WaitForEstimate(int k, const ros::Time& stamp) {
+  std::unique_lock<std::mutex> lock(mutex_);
+  const bool arrived =
+      estimate_arrived_.wait_for(lock, std::chrono::duration<double>(options_.lockstep_timeout),
+                                 [&] { return stop_ || last_estimate_stamp_ >= stamp; });
+  if (!arrived) {
+    ROS_WARN_STREAM("sim: no pose estimate for frame " << k << " (stamp " << stamp << ") within "
+                                                       << options_.lockstep_timeout
+                                                       << " s; going on");
+  }
+  return arrived;
+}
+
+void SimNode::Loop() {
+  WaitToStart();
+  const int frames = FrameCount();
   const auto period =
       std::chrono::duration<double>(1.0 / (options_.rate * options_.realtime_factor));
   auto next = std::chrono::steady_clock::now();
@@ -158,31 +212,9 @@ void SimNode::Loop() {
     const double t = options_.start_time + k / options_.rate;
     const auto [row, boom] = StateAt(t);
     const ros::Time stamp(options_.stamp_offset + t);
-    // Motion blur integrates from t to the exposure's end; the truth is the state at t.
-    std::optional<SceneState> exposure_end;
-    if (options_.world.sensor.motion_blur) {
-      const auto [row_end, boom_end] = StateAt(t + options_.world.sensor.exposure_time);
-      exposure_end = SceneState{row_end, boom_end};
-    }
-    StereoFrame frame;
-    try {
-      frame = world_->Render(row, boom, static_cast<uint64_t>(k), options_.publish_labels, false,
-                             exposure_end ? &*exposure_end : nullptr);
-    } catch (const std::exception& e) {
-      throw std::runtime_error("rendering frame " + std::to_string(k) + " failed: " + e.what());
-    }
-    PublishFrame(k, row, boom, frame, stamp);
+    PublishFrame(k, row, boom, RenderFrame(k, t, row, boom), stamp);
     if (options_.lockstep) {
-      std::unique_lock<std::mutex> lock(mutex_);
-      const bool arrived =
-          estimate_arrived_.wait_for(lock, std::chrono::duration<double>(options_.lockstep_timeout),
-                                     [&] { return stop_ || last_estimate_stamp_ >= stamp; });
-      if (!arrived) {
-        ++misses;
-        ROS_WARN_STREAM("sim: no pose estimate for frame "
-                        << k << " (stamp " << stamp << ") within " << options_.lockstep_timeout
-                        << " s; going on");
-      }
+      if (!WaitForEstimate(k, stamp)) ++misses;
     } else {  // a wall-clock rate, interruptible by the destructor
       next += std::chrono::duration_cast<std::chrono::steady_clock::duration>(period);
       std::unique_lock<std::mutex> lock(mutex_);

@@ -51,22 +51,16 @@ LensOptions GetLens(aar_ros_common::ParamReader& params, const std::string& side
   return lens;
 }
 
-}  // namespace
-
-SimNodeOptions LoadSimNodeOptions(const ros::NodeHandle& nh) {
-  aar_ros_common::ParamReader params(nh);
-  return LoadSimNodeOptions(params);
+// The receiver, the boom and whether it is drawn.
+void LoadModels(aar_ros_common::ParamReader& params, WorldOptions* world) {
+  const std::string models = ros::package::getPath("aar_description") + "/models";
+  world->receiver = aar_ros_common::LoadReceiver(params);
+  world->boom_urdf = params.Get<std::string>("boom_urdf", models + "/boom.urdf");
+  world->boom_visible = params.Get("boom", true);
 }
 
-SimNodeOptions LoadSimNodeOptions(aar_ros_common::ParamReader& params) {
-  SimNodeOptions o;
-  params.Allow("robot_description");  // tolerated: some launch files put it here
-  o.flight_path = params.Required("flight_path", "a flight-path CSV");
-  const std::string models = ros::package::getPath("aar_description") + "/models";
-  o.world.receiver = aar_ros_common::LoadReceiver(params);
-  o.world.boom_urdf = params.Get<std::string>("boom_urdf", models + "/boom.urdf");
-  o.world.boom_visible = params.Get("boom", true);
-
+// The stereo rig: image size, field of view, baseline and mounting.
+StereoRig LoadRig(aar_ros_common::ParamReader& params) {
   const int width = params.Get("image_width", 1280);
   const int height = params.Get("image_height", 960);
   const double hfov = params.Get("hfov_deg", 60.0);
@@ -79,91 +73,107 @@ SimNodeOptions LoadSimNodeOptions(aar_ros_common::ParamReader& params) {
   params.Check(height > 0, "image_height", "must be positive");
   params.Check(hfov > 0.0 && hfov < 180.0, "hfov_deg", "must be in (0, 180)");
   params.Check(baseline > 0.0, "baseline", "must be positive");
-  o.world.rig = MakeStereoRig(CameraIntrinsics::FromHorizontalFov(width, height, hfov), baseline,
-                              mount, yaw, pitch);
+  return MakeStereoRig(CameraIntrinsics::FromHorizontalFov(width, height, hfov), baseline, mount,
+                       yaw, pitch);
+}
 
-  // Raw cameras: distorted, unrectified images with their calibration (off: rectified pinhole).
+// Raw cameras: distorted, unrectified images with their calibration (off: rectified pinhole).
+void LoadRawCameras(aar_ros_common::ParamReader& params, RawCameraOptions* raw) {
   const RawCameraOptions raw_defaults = DefaultRawCameraOptions();
-  o.world.raw.enabled = params.Get("raw_images", false);
-  o.world.raw.left = GetLens(params, "left", raw_defaults.left);
-  o.world.raw.right = GetLens(params, "right", raw_defaults.right);
+  raw->enabled = params.Get("raw_images", false);
+  raw->left = GetLens(params, "left", raw_defaults.left);
+  raw->right = GetLens(params, "right", raw_defaults.right);
+}
 
-  o.world.sensor.noise_stddev = params.Get("noise_stddev", 0.0);
-  o.world.sensor.noise_seed = static_cast<uint64_t>(params.Get("noise_seed", 1));
-  o.world.renderer.sky_level = params.Get("sky_level", 200.0);
-  params.Check(o.world.sensor.noise_stddev >= 0.0, "noise_stddev", "must not be negative");
+// The read noise and the plain sky's grey level.
+void LoadNoiseAndSky(aar_ros_common::ParamReader& params, WorldOptions* world) {
+  world->sensor.noise_stddev = params.Get("noise_stddev", 0.0);
+  world->sensor.noise_seed = static_cast<uint64_t>(params.Get("noise_seed", 1));
+  world->renderer.sky_level = params.Get("sky_level", 200.0);
+  params.Check(world->sensor.noise_stddev >= 0.0, "noise_stddev", "must not be negative");
+}
 
-  o.rate = params.Get("rate", o.rate);
-  o.start_time = params.Get("start_time", o.start_time);
-  o.max_frames = params.Get("frames", o.max_frames);
-  o.lockstep = params.Get("lockstep", o.lockstep);
-  o.lockstep_timeout = params.Get("lockstep_timeout", o.lockstep_timeout);
-  o.realtime_factor = params.Get("realtime_factor", o.realtime_factor);
-  o.wait_for_subscribers = params.Get("wait_for_subscribers", o.lockstep);
-  o.start_delay = params.Get("start_delay", o.start_delay);
-  params.Check(o.start_delay >= 0.0, "start_delay", "must not be negative");
-  o.publish_labels = params.Get("publish_labels", o.publish_labels);
-  o.shutdown_at_end = params.Get("shutdown_at_end", o.shutdown_at_end);
-  o.stamp_offset = params.Get("stamp_offset", o.stamp_offset);
-  params.Check(o.rate > 0.0, "rate", "must be positive");
-  params.Check(o.max_frames >= 0, "frames", "must not be negative");
-  params.Check(o.lockstep_timeout > 0.0, "lockstep_timeout", "must be positive");
-  params.Check(o.realtime_factor > 0.0 && o.realtime_factor <= 100.0, "realtime_factor",
+// The node's loop: rate, time span, lockstep, what it publishes and how it stamps it.
+void LoadLoop(aar_ros_common::ParamReader& params, SimNodeOptions* o) {
+  o->rate = params.Get("rate", o->rate);
+  o->start_time = params.Get("start_time", o->start_time);
+  o->max_frames = params.Get("frames", o->max_frames);
+  o->lockstep = params.Get("lockstep", o->lockstep);
+  o->lockstep_timeout = params.Get("lockstep_timeout", o->lockstep_timeout);
+  o->realtime_factor = params.Get("realtime_factor", o->realtime_factor);
+  o->wait_for_subscribers = params.Get("wait_for_subscribers", o->lockstep);
+  o->start_delay = params.Get("start_delay", o->start_delay);
+  params.Check(o->start_delay >= 0.0, "start_delay", "must not be negative");
+  o->publish_labels = params.Get("publish_labels", o->publish_labels);
+  o->shutdown_at_end = params.Get("shutdown_at_end", o->shutdown_at_end);
+  o->stamp_offset = params.Get("stamp_offset", o->stamp_offset);
+  params.Check(o->rate > 0.0, "rate", "must be positive");
+  params.Check(o->max_frames >= 0, "frames", "must not be negative");
+  params.Check(o->lockstep_timeout > 0.0, "lockstep_timeout", "must be positive");
+  params.Check(o->realtime_factor > 0.0 && o->realtime_factor <= 100.0, "realtime_factor",
                "must be above 0 and at most 100");
-  params.Check(o.stamp_offset > 0.0, "stamp_offset", "must be positive");
+  params.Check(o->stamp_offset > 0.0, "stamp_offset", "must be positive");
+}
 
-  // Scene: background and sun (issue 16, docs/realism/scene.md).
-  {
-    SceneOptions& sc = o.world.renderer.scene;
-    const std::string background = params.Get<std::string>("background", "none");
-    params.Check(background == "none" || background == "sea" || background == "terrain",
-                 "background", "must be none, sea or terrain");
-    sc.background = background == "sea"       ? Background::kSea
-                    : background == "terrain" ? Background::kTerrain
-                                              : Background::kNone;
-    sc.background_altitude_m = params.Get("background_altitude", sc.background_altitude_m);
-    sc.visibility_m = params.Get("visibility", sc.visibility_m);
-    sc.cloud_coverage = params.Get("cloud_coverage", sc.cloud_coverage);
-    sc.cloud_altitude_m = params.Get("cloud_altitude", sc.cloud_altitude_m);
-    sc.cloud_min_range_m = params.Get("cloud_min_range", sc.cloud_min_range_m);
-    params.Check(sc.background_altitude_m > 0.0, "background_altitude", "must be positive");
-    params.Check(sc.visibility_m > 0.0, "visibility", "must be positive");
-    params.Check(sc.cloud_coverage >= 0.0 && sc.cloud_coverage <= 1.0, "cloud_coverage",
-                 "must be in [0, 1]");
-    params.Check(sc.cloud_altitude_m > 0.0 && sc.cloud_altitude_m < sc.background_altitude_m,
-                 "cloud_altitude", "must be positive and below background_altitude");
-    params.Check(sc.cloud_min_range_m >= 0.0, "cloud_min_range", "must not be negative");
-  }
-  // The sun and the propellers (docs/realism/sun.md): off by default (the thesis's fixed light).
-  {
-    SunOptions& sun = o.world.renderer.sun;
-    sun.enabled = params.Get("sun", sun.enabled);
-    sun.azimuth_deg = params.Get("sun_azimuth_deg", sun.azimuth_deg);
-    sun.elevation_deg = params.Get("sun_elevation_deg", sun.elevation_deg);
-    sun.direct = params.Get("sun_direct", sun.direct);
-    sun.ambient = params.Get("sun_ambient", sun.ambient);
-    sun.shadows = params.Get("sun_shadows", sun.shadows);
-    sun.shadow_map_size = params.Get("sun_shadow_map_size", sun.shadow_map_size);
-    sun.paint_specular = params.Get("sun_paint_specular", sun.paint_specular);
-    sun.metal_specular = params.Get("sun_metal_specular", sun.metal_specular);
-    sun.glass_specular = params.Get("sun_glass_specular", sun.glass_specular);
-    params.Check(sun.elevation_deg > 0.0 && sun.elevation_deg <= 90.0, "sun_elevation_deg",
-                 "must be in (0, 90] deg: a sun at or below the horizon lights nothing from above");
-    params.Check(std::isfinite(sun.azimuth_deg), "sun_azimuth_deg", "must be a finite angle");
-    params.Check(sun.direct > 0.0 && sun.direct <= 4.0, "sun_direct", "must be in (0, 4]");
-    params.Check(sun.ambient >= 0.0 && sun.ambient <= 2.0, "sun_ambient", "must be in [0, 2]");
-    params.Check(sun.shadow_map_size >= 64 && sun.shadow_map_size <= 8192, "sun_shadow_map_size",
-                 "must be from 64 to 8192 texels");
-    params.Check(sun.paint_specular >= 0.0, "sun_paint_specular", "must not be negative");
-    params.Check(sun.metal_specular >= 0.0, "sun_metal_specular", "must not be negative");
-    params.Check(sun.glass_specular >= 0.0, "sun_glass_specular", "must not be negative");
-    o.world.propellers = params.GetChoice<PropellerMode>("propellers", "none",
-                                                         {{"none", PropellerMode::kNone},
-                                                          {"blades", PropellerMode::kBlades},
-                                                          {"disc", PropellerMode::kDisc}});
-  }
-  // Turbulence (docs/realism/turbulence.md): Dryden gusts moving the receiver and the boom.
-  o.turbulence.intensity =
+// Scene: background (issue 16, docs/realism/scene.md).
+void LoadScene(aar_ros_common::ParamReader& params, SceneOptions* scene) {
+  SceneOptions& sc = *scene;
+  const std::string background = params.Get<std::string>("background", "none");
+  params.Check(background == "none" || background == "sea" || background == "terrain", "background",
+               "must be none, sea or terrain");
+  sc.background = background == "sea"       ? Background::kSea
+                  : background == "terrain" ? Background::kTerrain
+                                            : Background::kNone;
+  sc.background_altitude_m = params.Get("background_altitude", sc.background_altitude_m);
+  sc.visibility_m = params.Get("visibility", sc.visibility_m);
+  sc.cloud_coverage = params.Get("cloud_coverage", sc.cloud_coverage);
+  sc.cloud_altitude_m = params.Get("cloud_altitude", sc.cloud_altitude_m);
+  sc.cloud_min_range_m = params.Get("cloud_min_range", sc.cloud_min_range_m);
+  params.Check(sc.background_altitude_m > 0.0, "background_altitude", "must be positive");
+  params.Check(sc.visibility_m > 0.0, "visibility", "must be positive");
+  params.Check(sc.cloud_coverage >= 0.0 && sc.cloud_coverage <= 1.0, "cloud_coverage",
+               "must be in [0, 1]");
+  params.Check(sc.cloud_altitude_m > 0.0 && sc.cloud_altitude_m < sc.background_altitude_m,
+               "cloud_altitude", "must be positive and below background_altitude");
+  params.Check(sc.cloud_min_range_m >= 0.0, "cloud_min_range", "must not be negative");
+}
+
+// The sun (docs/realism/sun.md): off by default (the thesis's fixed light).
+void LoadSun(aar_ros_common::ParamReader& params, SunOptions* sun_options) {
+  SunOptions& sun = *sun_options;
+  sun.enabled = params.Get("sun", sun.enabled);
+  sun.azimuth_deg = params.Get("sun_azimuth_deg", sun.azimuth_deg);
+  sun.elevation_deg = params.Get("sun_elevation_deg", sun.elevation_deg);
+  sun.direct = params.Get("sun_direct", sun.direct);
+  sun.ambient = params.Get("sun_ambient", sun.ambient);
+  sun.shadows = params.Get("sun_shadows", sun.shadows);
+  sun.shadow_map_size = params.Get("sun_shadow_map_size", sun.shadow_map_size);
+  sun.paint_specular = params.Get("sun_paint_specular", sun.paint_specular);
+  sun.metal_specular = params.Get("sun_metal_specular", sun.metal_specular);
+  sun.glass_specular = params.Get("sun_glass_specular", sun.glass_specular);
+  params.Check(sun.elevation_deg > 0.0 && sun.elevation_deg <= 90.0, "sun_elevation_deg",
+               "must be in (0, 90] deg: a sun at or below the horizon lights nothing from above");
+  params.Check(std::isfinite(sun.azimuth_deg), "sun_azimuth_deg", "must be a finite angle");
+  params.Check(sun.direct > 0.0 && sun.direct <= 4.0, "sun_direct", "must be in (0, 4]");
+  params.Check(sun.ambient >= 0.0 && sun.ambient <= 2.0, "sun_ambient", "must be in [0, 2]");
+  params.Check(sun.shadow_map_size >= 64 && sun.shadow_map_size <= 8192, "sun_shadow_map_size",
+               "must be from 64 to 8192 texels");
+  params.Check(sun.paint_specular >= 0.0, "sun_paint_specular", "must not be negative");
+  params.Check(sun.metal_specular >= 0.0, "sun_metal_specular", "must not be negative");
+  params.Check(sun.glass_specular >= 0.0, "sun_glass_specular", "must not be negative");
+}
+
+// The propellers (docs/realism/sun.md): none by default.
+PropellerMode LoadPropellerMode(aar_ros_common::ParamReader& params) {
+  return params.GetChoice<PropellerMode>("propellers", "none",
+                                         {{"none", PropellerMode::kNone},
+                                          {"blades", PropellerMode::kBlades},
+                                          {"disc", PropellerMode::kDisc}});
+}
+
+// Turbulence (docs/realism/turbulence.md): Dryden gusts moving the receiver and the boom.
+void LoadTurbulence(aar_ros_common::ParamReader& params, TurbulenceOptions* turbulence) {
+  turbulence->intensity =
       params.GetChoice<TurbulenceIntensity>("turbulence", "none",
                                             {{"none", TurbulenceIntensity::kNone},
                                              {"light", TurbulenceIntensity::kLight},
@@ -171,17 +181,19 @@ SimNodeOptions LoadSimNodeOptions(aar_ros_common::ParamReader& params) {
                                              {"severe", TurbulenceIntensity::kSevere}});
   const int turbulence_seed = params.Get("turbulence_seed", 1);
   params.Check(turbulence_seed >= 0, "turbulence_seed", "must not be negative");
-  o.turbulence.seed = static_cast<uint64_t>(turbulence_seed);
-  o.turbulence.airspeed = params.Get("turbulence_airspeed", o.turbulence.airspeed);
-  params.Check(o.turbulence.airspeed > 0.0, "turbulence_airspeed", "must be positive [m/s]");
-  o.turbulence.altitude = params.Get("turbulence_altitude", o.turbulence.altitude);
-  params.Check(o.turbulence.altitude >= 2000 * kFoot && o.turbulence.altitude <= 80000 * kFoot,
+  turbulence->seed = static_cast<uint64_t>(turbulence_seed);
+  turbulence->airspeed = params.Get("turbulence_airspeed", turbulence->airspeed);
+  params.Check(turbulence->airspeed > 0.0, "turbulence_airspeed", "must be positive [m/s]");
+  turbulence->altitude = params.Get("turbulence_altitude", turbulence->altitude);
+  params.Check(turbulence->altitude >= 2000 * kFoot && turbulence->altitude <= 80000 * kFoot,
                "turbulence_altitude",
                "must be from 609.6 to 24384 m (2000 to 80000 ft: the medium/high-altitude model)");
+}
 
-  // Sensor (config/sim.yaml "# Sensor", docs/realism/sensor.md): each effect off by default;
-  // noise_stddev and noise_seed above are its read noise.
-  SensorOptions& sensor = o.world.sensor;
+// Sensor (config/sim.yaml "# Sensor", docs/realism/sensor.md): each effect off by default;
+// noise_stddev and noise_seed (LoadNoiseAndSky) are its read noise.
+void LoadSensor(aar_ros_common::ParamReader& params, SensorOptions* sensor_options) {
+  SensorOptions& sensor = *sensor_options;
   sensor.full_well = params.Get("full_well", sensor.full_well);
   sensor.motion_blur = params.Get("motion_blur", sensor.motion_blur);
   sensor.exposure_time = params.Get("exposure_time", sensor.exposure_time);
@@ -203,7 +215,31 @@ SimNodeOptions LoadSimNodeOptions(aar_ros_common::ParamReader& params) {
   params.Check(sensor.exposure_gain_min > 0.0, "exposure_gain_min", "must be positive");
   params.Check(sensor.exposure_gain_max >= sensor.exposure_gain_min, "exposure_gain_max",
                "must not be below exposure_gain_min");
+}
 
+}  // namespace
+
+SimNodeOptions LoadSimNodeOptions(const ros::NodeHandle& nh) {
+  aar_ros_common::ParamReader params(nh);
+  return LoadSimNodeOptions(params);
+}
+
+// Option group by option group, in the order their parameters have always been read and checked
+// (the first bad one is the error).
+SimNodeOptions LoadSimNodeOptions(aar_ros_common::ParamReader& params) {
+  SimNodeOptions o;
+  params.Allow("robot_description");  // tolerated: some launch files put it here
+  o.flight_path = params.Required("flight_path", "a flight-path CSV");
+  LoadModels(params, &o.world);
+  o.world.rig = LoadRig(params);
+  LoadRawCameras(params, &o.world.raw);
+  LoadNoiseAndSky(params, &o.world);
+  LoadLoop(params, &o);
+  LoadScene(params, &o.world.renderer.scene);
+  LoadSun(params, &o.world.renderer.sun);
+  o.world.propellers = LoadPropellerMode(params);
+  LoadTurbulence(params, &o.turbulence);
+  LoadSensor(params, &o.world.sensor);
   params.RejectUnknown();
   return o;
 }

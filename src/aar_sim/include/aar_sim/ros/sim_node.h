@@ -60,8 +60,20 @@ class SimNode {
   bool failed() const { return failed_; }  // the frame loop stopped on an error (logged FATAL)
 
  private:
+  // The constructor's steps.
+  void CheckStartTime() const;  // start_time within the path, stamps positive
+  void Advertise();
+  void PublishStatic();  // the receiver's marker and the cameras' static transforms
+  void LogSettings() const;
+  void LogRealism() const;  // the sun, the propellers and the turbulence, when on
+
   void Run();  // the thread: Loop, guarded
   void Loop();
+  // Loop's steps.
+  void WaitToStart() const;  // for both images' subscribers (when asked to), then start_delay
+  int FrameCount() const;    // the path's frames from start_time at the rate, at most `frames`
+  StereoFrame RenderFrame(int k, double t, const FlightPathRow& row, const BoomPose& boom);
+  bool WaitForEstimate(int k, const ros::Time& stamp);  // lockstep; false: timed out (warned)
   void PublishFrame(int index, const FlightPathRow& row, const BoomPose& boom,
                     const StereoFrame& frame, const ros::Time& stamp);
   void OnEstimate(const aar_msgs::PoseEstimate::ConstPtr& msg);
