@@ -130,8 +130,9 @@ std::string ResolveMeshPath(const std::string& uri, const fs::path& urdf_dir,
     const std::string root = options.find_package ? options.find_package(package)
                                                   : FindPackage(package, PackageRoots(options));
     if (root.empty()) {
-      throw std::runtime_error("package '" + package + "' of '" + uri +
-                               "' not found in the package paths (ROS_PACKAGE_PATH)");
+      throw std::runtime_error(
+          "package '" + package + "' of '" + uri + "' not found " +
+          (options.find_package ? "(rospack)" : "in the package paths (ROS_PACKAGE_PATH)"));
     }
     return (fs::path(root) / rest.substr(slash + 1)).string();
   }

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 #include <regex>
+#include <set>
 #include <tuple>
 #include <vector>
 
@@ -192,6 +193,19 @@ TEST(Config, StereoAndEvalLoadAsTheLaunchFilesGiveThem) {
 TEST(Config, RegistrationYamlHoldsTheStructsDefaults) {
   aar_ros_common::ParamReader none(XmlRpc::XmlRpcValue(), "/none");
   const auto bare = aar_registration::LoadRegistrationNodeOptions(none);
+  // Every key the loader reads is in the file, but those whose default is not one number: the
+  // receiver (the launch files give it), the nominal pose (the receiver's contact pose) and the
+  // outline's start rotation (kept in radians by the struct).
+  const std::set<std::string> not_in_yaml = {
+      "receiver",         "nominal_x",
+      "nominal_y",        "nominal_z",
+      "nominal_roll_deg", "nominal_pitch_deg",
+      "nominal_yaw_deg",  "outline_start_sigma_rotation_deg"};
+  XmlRpc::XmlRpcValue file;
+  ASSERT_TRUE(ros::NodeHandle("/registration").getParam("", file));
+  for (const auto& key : none.known_keys()) {
+    if (!not_in_yaml.count(key)) EXPECT_TRUE(file.hasMember(key)) << key << " not in the YAML";
+  }
   const auto yaml = aar_registration::LoadRegistrationNodeOptions(ros::NodeHandle("/registration"));
   const auto &b = bare.registrar, &y = yaml.registrar;
   EXPECT_EQ(y.reference, b.reference);

@@ -3,7 +3,6 @@
 #include <set>
 
 #include <aar_alignment/boom_parts.h>
-#include <aar_geometry/robot_model.h>
 #include <aar_ros_common/robot_description.h>
 #include <aar_ros_common/tf_bridge.h>
 #include <cv_bridge/cv_bridge.h>

@@ -90,6 +90,8 @@ class ParamReader {
 
   // A key read by someone else (dynamic_reconfigure, diagnostic_updater, a launch file's habit).
   void Allow(const std::string& name) { known_.insert(name); }
+  // Every key read or allowed so far (config.test checks a node YAML lists all of its loader's).
+  const std::set<std::string>& known_keys() const { return known_; }
   // Keys below ~ in sub-namespaces (e.g. dynamic_reconfigure's own) are not checked.
   void AllowSubNamespaces() { sub_namespaces_allowed_ = true; }
 

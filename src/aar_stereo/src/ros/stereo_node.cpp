@@ -5,6 +5,7 @@
 #include <limits>
 #include <sstream>
 
+#include <aar_geometry/load_error.h>
 #include <aar_geometry/mesh_io.h>
 #include <aar_ros_common/param_reader.h>
 #include <aar_ros_common/receiver_params.h>
@@ -33,7 +34,9 @@ StereoNode::StereoNode(ros::NodeHandle nh, ros::NodeHandle private_nh,
     if (roi.include_boom) {
       try {
         boom_ = aar_ros_common::LoadRobotDescription(nh_, options_.common.robot_description);
-      } catch (const std::runtime_error& e) {  // fatal: the region would cut the boom's points
+      } catch (const aar_geometry::LoadError&) {  // a URDF that is there but refused: as it says
+        throw;
+      } catch (const std::runtime_error& e) {  // none: fatal, the region would cut its points
         throw std::invalid_argument(std::string("~roi_include_boom needs the boom's URDF: ") +
                                     e.what());
       }

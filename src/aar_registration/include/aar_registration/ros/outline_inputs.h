@@ -22,8 +22,9 @@ namespace aar_registration {
 // What the outline needs each frame, gathered on the ROS side: the rectified pair and its camera
 // infos (left/image_rect, left/camera_info, right/image_rect, right/camera_info, paired by stamp
 // and kept for the last few stamps), the cameras' and the boom links' poses from tf at the stamp,
-// and the boom's convex parts from the URDF in `robot_description` (empty: the tanker flies no
-// boom; no boom model: nothing is masked, said once).
+// and the boom's convex parts from the URDF in parameter `robot_description`, looked up from `nh`
+// and searched up (aar_ros_common::LoadRobotDescription; empty: the tanker flies no boom; no boom
+// model: nothing is masked, said once).
 class OutlineInputs {
  public:
   OutlineInputs(ros::NodeHandle nh, const tf2_ros::Buffer& tf, const std::string& tanker_frame,
