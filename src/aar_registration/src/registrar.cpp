@@ -28,7 +28,10 @@ void OutlineOptions::Validate() const {
 }
 
 Registrar::Registrar(const RegistrarOptions& options)
-    : options_(options), icp_(options.icp), tracker_(options.tracker) {
+    : options_(options),
+      icp_(options.icp),
+      tracker_(options.tracker),
+      integrity_(options.integrity) {
   if (options.outline.enabled && !options.track)
     throw std::invalid_argument("the outline (outline.enabled) needs tracking (track: true)");
   options.outline.Validate();
@@ -43,6 +46,8 @@ Registrar::Registrar(const RegistrarOptions& options)
   if (!(options.gate.min_fitness >= 0.0 && options.gate.min_fitness <= 1.0) ||
       !(options.gate.max_rms > 0.0))
     throw std::invalid_argument("gate: min_fitness must be in [0, 1] and max_rms > 0");
+  if (!(options.persistent_error.pixel_sigma >= 0.0))
+    throw std::invalid_argument("persistent_error: pixel_sigma must be >= 0");
 }
 
 size_t Registrar::BuildStaticReference(const aar_geometry::TriangleMesh& receiver,
@@ -86,6 +91,7 @@ bool Registrar::SetReference(std::vector<Eigen::Vector3d> points,
 
 void Registrar::SetOutlineModel(const aar_geometry::TriangleMesh& receiver) {
   aligner_ = std::make_unique<aar_alignment::OutlineAligner>(receiver, options_.outline.alignment);
+  receiver_size_m_ = 2.0 * aar_geometry::HalfDiagonal(receiver.vertices);
 }
 
 TrackPrediction Registrar::Predict(double stamp_s) const {
@@ -185,11 +191,13 @@ RegistrarResult Registrar::Register(const std::vector<Eigen::Vector3d>& all_sens
     const TrackPrediction& filtered = out.track.filtered;
     out.valid = filtered.valid;
     out.T_tanker_receiver = filtered.T_tanker_receiver;
-    out.covariance = filtered.covariance;
+    out.covariance =
+        filtered.covariance + PersistentCovariance(filtered.T_tanker_receiver, outline);
     out.velocity = filtered.velocity;
     out.angular_velocity = filtered.angular_velocity;
     if (!out.valid && out.error.empty()) out.error = out.track.reason;
   }
+  AssessIntegrity(out);
   out.registration_ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   return out;
@@ -222,6 +230,14 @@ Matrix6d Registrar::StartCovariance() const {
   return sigma.cwiseAbs2().asDiagonal();
 }
 
+Eigen::Isometry3d Registrar::StartPose(const Eigen::Isometry3d& T) const {
+  const double offset = options_.fault_start_offset_m;
+  if (offset == 0.0 || !(T.translation().norm() > 0.0)) return T;
+  Eigen::Isometry3d moved = T;
+  moved.translation() += offset * T.translation().normalized();
+  return moved;
+}
+
 Matrix6d Registrar::IcpCovariance(const RegistrarResult& out, const OutlineFrame* frame) const {
   Matrix6d covariance = CovarianceInTanker(out.icp.covariance, out.T_tanker_receiver_registered);
   const double sigma_d = options_.outline.disparity_sigma;
@@ -240,6 +256,36 @@ Matrix6d Registrar::IcpCovariance(const RegistrarResult& out, const OutlineFrame
   const Eigen::Vector3d u = ray / z;
   covariance.topLeftCorner<3, 3>() += u * u.transpose() * sigma_z * sigma_z / independent;
   return covariance;
+}
+
+Matrix6d Registrar::PersistentCovariance(const Eigen::Isometry3d& T,
+                                         const OutlineFrame* frame) const {
+  Matrix6d c = Matrix6d::Zero();
+  const double sigma_px = options_.persistent_error.pixel_sigma;
+  if (!frame || !(sigma_px > 0.0) || !(receiver_size_m_ > 0.0) || !(frame->left_camera.fx > 0.0))
+    return c;
+  const Eigen::Vector3d ray = T.translation() - frame->left_camera.T_tanker_optical.translation();
+  const double z = ray.norm();
+  if (!(z > 0.0)) return c;
+  const Eigen::Vector3d u = ray / z;
+  const double across = z * sigma_px / frame->left_camera.fx;  // [m]
+  const double along = across * z / receiver_size_m_;          // [m]
+  const double turn = across / receiver_size_m_;               // [rad]
+  c.topLeftCorner<3, 3>() = across * across * (Eigen::Matrix3d::Identity() - u * u.transpose()) +
+                            along * along * u * u.transpose();
+  c.bottomRightCorner<3, 3>().diagonal().setConstant(turn * turn);
+  return c;
+}
+
+void Registrar::AssessIntegrity(RegistrarResult& out) {
+  IntegrityInput in;
+  in.valid = out.valid;
+  in.T_tanker_receiver = out.T_tanker_receiver;
+  in.covariance = out.covariance;
+  in.tracking = out.tracking;
+  in.outcome = out.track.outcome;
+  in.agreeing = out.registration_fused && (!out.outline_ran || out.outline_fused);
+  out.integrity = integrity_.Assess(in);
 }
 
 namespace {
@@ -319,7 +365,7 @@ void Registrar::Start(double stamp_s, const std::vector<Eigen::Vector3d>& sensed
     if (why.empty()) {
       const auto a = AlignOutline(frame, out.T_tanker_receiver_registered, StartCovariance(), out);
       if (a.valid && a.quality >= options_.outline.min_quality) {
-        out.track = tracker_.Update(stamp_s, a.T_tanker_receiver, a.covariance);
+        out.track = tracker_.Update(stamp_s, StartPose(a.T_tanker_receiver), a.covariance);
         out.outline_fused = true;
         out.error.clear();
         if (k > 0) {
@@ -370,7 +416,8 @@ bool Registrar::ImageStart(double stamp_s, const OutlineFrame& frame, RegistrarR
     why = s.str();
     return false;
   }
-  out.track = tracker_.Update(stamp_s, a.alignment.T_tanker_receiver, a.alignment.covariance);
+  out.track =
+      tracker_.Update(stamp_s, StartPose(a.alignment.T_tanker_receiver), a.alignment.covariance);
   out.outline_fused = true;
   out.error.clear();
   std::ostringstream s;
@@ -394,8 +441,12 @@ void Registrar::Track(double stamp_s, const std::vector<Eigen::Vector3d>& sensed
   } else if (!gate.empty()) {
     out.track = tracker_.Reject(stamp_s, "registration rejected: " + gate);
   } else {
-    out.track =
-        tracker_.Update(stamp_s, out.T_tanker_receiver_registered, IcpCovariance(out, frame));
+    const bool start = tracker_.state() != TrackState::kTracking;
+    out.track = tracker_.Update(stamp_s,
+                                start ? StartPose(out.T_tanker_receiver_registered)
+                                      : out.T_tanker_receiver_registered,
+                                IcpCovariance(out, frame));
+    out.registration_fused = out.track.outcome == TrackOutcome::kAccepted;
   }
   if (!outline || tracker_.state() != TrackState::kTracking) return;
   const bool icp_rejected = out.registered && out.track.outcome == TrackOutcome::kRejected;

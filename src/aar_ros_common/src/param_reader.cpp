@@ -130,4 +130,17 @@ void ParamReader::Convert(const std::string& name, const XmlRpcValue& value,
   out = static_cast<const std::string&>(value);
 }
 
+void ParamReader::Convert(const std::string& name, const XmlRpcValue& value,
+                          std::vector<double>& out) const {
+  Check(value.getType() == XmlRpcValue::TypeArray, name,
+        std::string("has the wrong type (a list of numbers expected, not ") +
+            TypeName(value.getType()) + ")");
+  out.clear();
+  for (int i = 0; i < value.size(); ++i) {
+    double d = 0.0;
+    Convert(name + "[" + std::to_string(i) + "]", value[i], d);
+    out.push_back(d);
+  }
+}
+
 }  // namespace aar_ros_common

@@ -258,6 +258,20 @@ TEST(Config, RegistrationYamlHoldsTheStructsDefaults) {
   EXPECT_EQ(yo.alignment.line_model, bo.alignment.line_model);
   EXPECT_EQ(yo.alignment.search_radius_px, bo.alignment.search_radius_px);
   EXPECT_EQ(yo.alignment.covariance_scale, bo.alignment.covariance_scale);
+  EXPECT_EQ(y.persistent_error.pixel_sigma, b.persistent_error.pixel_sigma);
+  EXPECT_EQ(y.fault_start_offset_m, b.fault_start_offset_m);
+  const auto &yi = y.integrity, &bi = b.integrity;
+  EXPECT_EQ(yi.integrity_risk, bi.integrity_risk);
+  EXPECT_EQ(yi.overbound_factor, bi.overbound_factor);
+  EXPECT_EQ(yi.position_bias_m, bi.position_bias_m);
+  EXPECT_EQ(yi.attitude_bias_deg, bi.attitude_bias_deg);
+  EXPECT_EQ(yi.confirm_frames, bi.confirm_frames);
+  ASSERT_EQ(yi.bands.size(), bi.bands.size());
+  for (size_t i = 0; i < yi.bands.size(); ++i) {
+    EXPECT_EQ(yi.bands[i].max_range_m, bi.bands[i].max_range_m) << "band " << i;
+    EXPECT_EQ(yi.bands[i].position_m, bi.bands[i].position_m) << "band " << i;
+    EXPECT_EQ(yi.bands[i].attitude_deg, bi.bands[i].attitude_deg) << "band " << i;
+  }
   const auto &yc = yaml.common, &bc = bare.common;
   EXPECT_EQ(yc.frames.tanker, bc.frames.tanker);
   EXPECT_EQ(yc.frames.receiver, bc.frames.receiver);

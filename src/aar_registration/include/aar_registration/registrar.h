@@ -14,6 +14,7 @@
 #include <Eigen/Geometry>
 
 #include "aar_registration/icp.h"
+#include "aar_registration/integrity.h"
 #include "aar_registration/tracker.h"
 
 namespace aar_registration {
@@ -87,6 +88,17 @@ struct OutlineFrame {
   std::vector<std::vector<Eigen::Vector3d>> boom_parts_in_tanker;
 };
 
+// Image errors that persist from frame to frame (a silhouette's edge found a fraction of a pixel
+// off for seconds as the view changes slowly; texture behind the receiver; stereo's fattening).
+// The filter averages frames as if their errors were independent, so its covariance shrinks
+// below what these allow; the published covariance adds them back (docs/INTEGRITY.md): a
+// persistent error of pixel_sigma in the images moves the receiver Z pixel_sigma / f across the
+// line of sight, Z^2 pixel_sigma / (f W) along it (W the receiver's size, the outline's range
+// cue) and turns it by pixel_sigma Z / (f W). Needs the frame's cameras (the outline's).
+struct PersistentErrorOptions {
+  double pixel_sigma = 0.0;  // [px]; 0: off (the filter's covariance as it is)
+};
+
 struct RegistrarOptions {
   ReferenceKind reference = ReferenceKind::kShelled;
   aar_geometry::ReferenceModelOptions sampling;
@@ -113,6 +125,12 @@ struct RegistrarOptions {
   TrackerOptions tracker;
   RegistrationGate gate;
   OutlineOptions outline;
+  PersistentErrorOptions persistent_error;
+  // Protection levels and alerts on every pose (docs/INTEGRITY.md).
+  IntegrityOptions integrity;
+  // Fault injection, for the integrity tests only: every new track starts this much further
+  // from the tanker's origin [m] than its acquisition found (a deliberately wrong start; 0: off).
+  double fault_start_offset_m = 0.0;
 };
 
 struct RegistrarResult {
@@ -143,6 +161,10 @@ struct RegistrarResult {
   bool outline_fused = false;
   std::string outline_note;
   double outline_ms = 0.0;  // [ms] of registration_ms
+  // With tracking: this frame's registration entered the filter (passed both gates).
+  bool registration_fused = false;
+  // The pose's protection levels, the phase's alert limits and whether it is in alert.
+  IntegrityResult integrity;
 };
 
 // ICP's covariance (RegistrationResult::covariance of T_receiver_tanker, receiver frame) as the
@@ -213,8 +235,15 @@ class Registrar {
                                               const Matrix6d& covariance,
                                               RegistrarResult& out) const;
   Matrix6d StartCovariance() const;
+  // A start's pose as the tracker takes it: `T`, or moved by fault_start_offset_m.
+  Eigen::Isometry3d StartPose(const Eigen::Isometry3d& T) const;
   // ICP's covariance in the tanker frame, with stereo's range noise when asked for.
   Matrix6d IcpCovariance(const RegistrarResult& out, const OutlineFrame* frame) const;
+  // The covariance of the errors that persist across frames at pose `T` (PersistentErrorOptions);
+  // zero without the frame's cameras or the receiver's size.
+  Matrix6d PersistentCovariance(const Eigen::Isometry3d& T, const OutlineFrame* frame) const;
+  // The frame's integrity from its pose, covariance and what the tracker did.
+  void AssessIntegrity(RegistrarResult& out);
 
   RegistrarOptions options_;
   Icp icp_;
@@ -225,6 +254,8 @@ class Registrar {
   std::optional<std::pair<double, Eigen::Isometry3d>> previous_;  // stamp [s], T_tanker_receiver
   std::optional<Eigen::Vector3d> eye_;  // this frame's left camera, tanker frame (Register's)
   Tracker tracker_;
+  IntegrityMonitor integrity_;
+  double receiver_size_m_ = 0.0;  // the outline model's bounding-box diagonal [m]
 };
 
 }  // namespace aar_registration

@@ -57,6 +57,9 @@ aar_msgs::PoseEstimate ToPoseEstimate(const RegistrarResult& r, const std_msgs::
   estimate.mahalanobis2 = r.track.mahalanobis2;
   estimate.registered = r.registered;
   estimate.registered_pose = tf2::toMsg(r.T_tanker_receiver_registered);
+  estimate.integrity = r.integrity.alert ? aar_msgs::PoseEstimate::INTEGRITY_ALERT
+                                         : aar_msgs::PoseEstimate::INTEGRITY_OK;
+  estimate.integrity_reason = r.integrity.reason;
   if (!r.valid) {
     estimate.pose.orientation.w = 1.0;
     return estimate;
@@ -64,6 +67,11 @@ aar_msgs::PoseEstimate ToPoseEstimate(const RegistrarResult& r, const std_msgs::
   estimate.valid = true;
   estimate.pose = tf2::toMsg(r.T_tanker_receiver);
   for (int i = 0; i < 36; ++i) estimate.covariance[i] = r.covariance(i / 6, i % 6);
+  estimate.protection_level_position = r.integrity.levels.position_m;
+  estimate.protection_level_attitude = r.integrity.levels.attitude_deg;
+  estimate.alert_limit_position = r.integrity.limits.position_m;
+  estimate.alert_limit_attitude = r.integrity.limits.attitude_deg;
+  estimate.integrity_risk = r.integrity.risk;
   tf2::toMsg(r.velocity, estimate.velocity.linear);
   tf2::toMsg(r.angular_velocity, estimate.velocity.angular);
   estimate.converged = r.icp.converged;

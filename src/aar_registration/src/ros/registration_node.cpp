@@ -335,6 +335,10 @@ void RegistrationNode::Publish(const RegistrarResult& result, const ros::Time& s
     ++frames_;
     estimates_ += result.valid;
     last_error_ = result.valid ? "" : result.error;
+    if (result.valid && result.integrity.alert) {
+      ++integrity_alerts_;
+      last_integrity_reason_ = result.integrity.reason;
+    }
     if (result.tracking) {
       ++outcomes_[result.track.outcome];
       last_outcome_ = result.track.outcome;
@@ -371,6 +375,8 @@ void RegistrationNode::Diagnose(diagnostic_updater::DiagnosticStatusWrapper& sta
   for (const auto& [outcome, count] : outcomes_)
     status.add(std::string("frames ") + ToString(outcome), count);
   if (!last_track_reason_.empty()) status.add("last track event", last_track_reason_);
+  status.add("poses in integrity alert", integrity_alerts_);
+  if (!last_integrity_reason_.empty()) status.add("last integrity alert", last_integrity_reason_);
   if (outline_) {
     status.add("outline: frames aligned", outline_ran_);
     status.add("outline: frames fused", outline_fused_);

@@ -140,6 +140,49 @@ OutlineOptions LoadOutlineOptions(aar_ros_common::ParamReader& params, OutlineOp
   return outline;
 }
 
+// The alert bands: alert_band_max_range [m] (rising; the last band reaches any range beyond) and
+// one more alert_limit_position [m] and alert_limit_attitude_deg [deg] than ranges.
+std::vector<AlertBand> LoadAlertBands(aar_ros_common::ParamReader& params,
+                                      const std::vector<AlertBand>& defaults) {
+  std::vector<double> ranges, positions, attitudes;
+  for (size_t i = 0; i < defaults.size(); ++i) {
+    if (i + 1 < defaults.size()) ranges.push_back(defaults[i].max_range_m);
+    positions.push_back(defaults[i].position_m);
+    attitudes.push_back(defaults[i].attitude_deg);
+  }
+  ranges = params.Get("alert_band_max_range", ranges);
+  positions = params.Get("alert_limit_position", positions);
+  attitudes = params.Get("alert_limit_attitude_deg", attitudes);
+  params.Check(positions.size() == ranges.size() + 1, "alert_limit_position",
+               "must hold one limit more than alert_band_max_range has ranges");
+  params.Check(attitudes.size() == positions.size(), "alert_limit_attitude_deg",
+               "must hold as many limits as alert_limit_position");
+  std::vector<AlertBand> bands(positions.size());
+  for (size_t i = 0; i < bands.size(); ++i) {
+    if (i < ranges.size()) bands[i].max_range_m = ranges[i];
+    bands[i].position_m = positions[i];
+    bands[i].attitude_deg = attitudes[i];
+    params.Check(i == 0 || i == ranges.size() || ranges[i] > ranges[i - 1],
+                 "alert_band_max_range", "must rise");
+    params.Check(positions[i] > 0.0, "alert_limit_position", "must be > 0");
+    params.Check(attitudes[i] > 0.0, "alert_limit_attitude_deg", "must be > 0");
+  }
+  return bands;
+}
+
+IntegrityOptions LoadIntegrityOptions(aar_ros_common::ParamReader& params, IntegrityOptions o) {
+  o.integrity_risk = params.GetPositive("integrity_risk", o.integrity_risk);
+  params.Check(o.integrity_risk < 1.0, "integrity_risk", "must lie in (0, 1)");
+  o.overbound_factor = params.Get("integrity_overbound_factor", o.overbound_factor);
+  params.Check(o.overbound_factor >= 1.0, "integrity_overbound_factor", "must be >= 1");
+  o.position_bias_m = params.GetNonNegative("integrity_position_bias", o.position_bias_m);
+  o.attitude_bias_deg = params.GetNonNegative("integrity_attitude_bias_deg", o.attitude_bias_deg);
+  o.confirm_frames = params.Get("integrity_confirm_frames", o.confirm_frames);
+  params.Check(o.confirm_frames >= 0, "integrity_confirm_frames", "must be >= 0");
+  o.bands = LoadAlertBands(params, o.bands);
+  return o;
+}
+
 }  // namespace
 
 RegistrationNodeOptions LoadRegistrationNodeOptions(const ros::NodeHandle& nh) {
@@ -163,6 +206,10 @@ RegistrationNodeOptions LoadRegistrationNodeOptions(aar_ros_common::ParamReader&
   r.tracker = LoadTrackerOptions(params, r.tracker);
   r.outline = LoadOutlineOptions(params, r.outline);
   params.Check(!r.outline.enabled || r.track, "outline", "needs track: true");
+  r.persistent_error.pixel_sigma =
+      params.GetNonNegative("persistent_pixel_sigma", r.persistent_error.pixel_sigma);
+  r.integrity = LoadIntegrityOptions(params, r.integrity);
+  r.fault_start_offset_m = params.Get("fault_start_offset", r.fault_start_offset_m);
   o.common = aar_ros_common::LoadCommonNodeOptions(params, o.common);
   o.model_boom = params.Get("model_boom", o.model_boom);
   o.truth_frame = params.Get("truth_frame", o.truth_frame);

@@ -111,6 +111,9 @@ class ParamReader {
   void Convert(const std::string& name, const XmlRpc::XmlRpcValue& value, int& out) const;
   void Convert(const std::string& name, const XmlRpc::XmlRpcValue& value, double& out) const;
   void Convert(const std::string& name, const XmlRpc::XmlRpcValue& value, std::string& out) const;
+  // A list of numbers, each finite.
+  void Convert(const std::string& name, const XmlRpc::XmlRpcValue& value,
+               std::vector<double>& out) const;
 
   const ros::NodeHandle* nh_ = nullptr;  // the server; else tree_ and ns_
   XmlRpc::XmlRpcValue tree_;

@@ -126,6 +126,8 @@ class RegistrationNode {
   size_t frames_ = 0, estimates_ = 0;
   std::map<TrackOutcome, size_t> outcomes_;  // tracking: frames by outcome
   std::string last_error_, last_track_reason_;
+  size_t integrity_alerts_ = 0;  // poses published in alert (docs/INTEGRITY.md)
+  std::string last_integrity_reason_;
   // The outline: frames it ran on, fused, and its last note and fit.
   size_t outline_ran_ = 0, outline_fused_ = 0, outline_missing_ = 0;
   std::string last_outline_note_, last_outline_missing_;

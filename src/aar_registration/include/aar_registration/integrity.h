@@ -1,0 +1,99 @@
+#pragma once
+
+#include <limits>
+#include <string>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+#include "aar_registration/tracker.h"
+#include "aar_registration/types.h"
+
+namespace aar_registration {
+
+// The alert limits of one phase of the approach: estimates whose range from the tanker's origin
+// is at most max_range_m (and beyond the previous band's). docs/INTEGRITY.md gives the rationale.
+struct AlertBand {
+  double max_range_m = std::numeric_limits<double>::infinity();  // [m]
+  double position_m = 0.0;                                       // [m] 3D position error
+  double attitude_deg = 0.0;                                     // [deg] rotation angle
+};
+
+// Integrity monitoring (not in the thesis): each pose's protection levels, bounds on its error
+// that fail with probability integrity_risk per frame, and an alert when they exceed the phase's
+// alert limits or the track is not yet confirmed (docs/INTEGRITY.md).
+struct IntegrityOptions {
+  // Per frame: the probability that the error exceeds its protection level without an alert.
+  double integrity_risk = 1e-5;
+  // The levels overbound the error distribution (GNSS's way: an inflated Gaussian and a bias):
+  // level = overbound_factor * K(integrity_risk) * sigma_max + bias, where sigma_max is the
+  // covariance's largest standard deviation of the 3 positions (or rotations) and K the
+  // chi-square bound of a 3D error at the risk. Calibrated on seeds the reports do not use.
+  double overbound_factor = 1.0;
+  double position_bias_m = 0.0;    // [m]
+  double attitude_bias_deg = 0.0;  // [deg]
+  // By range, nearest first (region C, B, A by default); the last one reaches any range.
+  std::vector<AlertBand> bands = {{38.0, 0.5, 2.0},  // C: contact, the boom's nozzle in reach
+                                  {70.0, 2.0, 5.0},  // B: pre-contact, station keeping
+                                  {std::numeric_limits<double>::infinity(), 10.0, 10.0}};  // A
+  // A new track is in alert until this many consecutive frames had their registration and
+  // (with the outline) their outline both accepted by the filter: a start can be wrong. 0: a
+  // start is trusted at once (only to show what the confirmation buys).
+  int confirm_frames = 5;
+
+  void Validate() const;  // throws std::invalid_argument naming the field
+};
+
+struct ProtectionLevels {
+  double position_m = 0.0;    // [m] bound on |t_estimate - t_true|
+  double attitude_deg = 0.0;  // [deg] bound on the angle of R_true^T R_estimate
+};
+
+// sqrt of the chi-square quantile with `dof` degrees of freedom at 1 - risk: a zero-mean
+// Gaussian error's norm exceeds K * sigma_max with probability at most `risk`.
+double ProtectionFactor(double risk, int dof = 3);
+
+// The levels of a covariance ([m^2, rad^2]: position, then rotation) under `options`.
+ProtectionLevels ComputeProtectionLevels(const Matrix6d& covariance,
+                                         const IntegrityOptions& options);
+
+// The band whose range holds `range_m` (the last one beyond every other).
+const AlertBand& BandOfRange(const std::vector<AlertBand>& bands, double range_m);
+
+// What one frame tells the monitor.
+struct IntegrityInput {
+  bool valid = false;  // a pose
+  Eigen::Isometry3d T_tanker_receiver = Eigen::Isometry3d::Identity();
+  Matrix6d covariance = Matrix6d::Zero();
+  bool tracking = false;  // a tracker made the pose; the fields below are meaningful
+  TrackOutcome outcome = TrackOutcome::kMissed;
+  // Every measurement this frame has (the registration, and the outline when it runs) was
+  // accepted by the filter: the sensors agree with the track.
+  bool agreeing = false;
+};
+
+struct IntegrityResult {
+  bool alert = true;
+  std::string reason;  // why in alert; empty when not
+  ProtectionLevels levels;
+  AlertBand limits;   // the phase's
+  double risk = 0.0;  // per frame, that of the levels (IntegrityOptions::integrity_risk)
+  int confirmed = 0;  // frames of agreement since the track started
+};
+
+// One per registrar: remembers how far the current track is confirmed. Not thread-safe.
+class IntegrityMonitor {
+ public:
+  explicit IntegrityMonitor(const IntegrityOptions& options = {});  // validates
+
+  IntegrityResult Assess(const IntegrityInput& in);
+
+ private:
+  // Counts the track's confirmation; the reason it is not yet confirmed, or empty.
+  std::string Confirm(const IntegrityInput& in);
+
+  IntegrityOptions options_;
+  int confirmed_ = 0;
+};
+
+}  // namespace aar_registration
