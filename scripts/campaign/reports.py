@@ -20,6 +20,13 @@ def _call(cmd, log=None):
             out.close()
 
 
+def _stanford_diagrams(out, experiments):
+    """DIR/plots/<experiment>_stanford.png of a run or a suite (plot_integrity.py)."""
+    if _call([sys.executable, os.path.join(ROOT, "src/aar_eval/scripts/plot_integrity.py"),
+              out, experiments]):
+        say("Stanford diagrams failed", error=True)
+
+
 def write_reports(campaign):
     """Writes the kind's reports; returns the main one's path and whether all were written."""
     experiments = ",".join(campaign.experiments)
@@ -28,6 +35,7 @@ def write_reports(campaign):
         if _call([sys.executable, os.path.join(ROOT, "src/aar_eval/scripts/plot_errors.py"),
                   out, experiments]):
             say("plots failed", error=True)
+        _stanford_diagrams(out, experiments)
         # Headless rviz captures of the sample bag (a C-12 flight; other receivers go without).
         if campaign.notes.get("captures"):
             if _call([os.path.join(ROOT, "scripts/capture"), os.path.join(
@@ -39,6 +47,7 @@ def write_reports(campaign):
     ok = True
     for unit in campaign.units:
         unit_dir = os.path.normpath(os.path.join(out, unit))
+        _stanford_diagrams(unit_dir, experiments)
         ok &= _call([tool("aar_eval", "make_report"), "--suite", unit_dir, experiments,
                      SUITE_BASELINES]) == 0
     if campaign.kind == "suite":

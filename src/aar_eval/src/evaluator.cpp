@@ -47,6 +47,11 @@ std::array<double, 6> ErrorComponents(const Eigen::Isometry3d& truth,
           aar_geometry::RadToDeg(e.orientation_rad.yaw)};
 }
 
+// A level or limit as FrameRecord keeps it: NaN for none (0 from a publisher without integrity).
+double LevelOrNan(double value) {
+  return value > 0.0 ? value : std::numeric_limits<double>::quiet_NaN();
+}
+
 }  // namespace
 
 Evaluator::FrameStatus Evaluator::AddFrame(int64_t stamp_ns, double now_s) {
@@ -138,10 +143,15 @@ void Evaluator::Score(const Eigen::Isometry3d& T_truth, SettledFrame& s) {
       f.rms = est.rms;
       f.registration_ms = est.registration_ms;
       f.nees = Nees(T_truth, est);
+      f.pl_position_m = LevelOrNan(est.protection_level_position);
+      f.pl_attitude_deg = LevelOrNan(est.protection_level_attitude);
+      f.al_position_m = LevelOrNan(est.alert_limit_position);
+      f.al_attitude_deg = LevelOrNan(est.alert_limit_attitude);
       position_sum_ += PositionError(f);
       ++estimated_;
     }
     f.track = est.track;
+    f.alert = est.alert;
   }
   // A live system holds the last estimate through a miss.
   f.published = last_estimate_.has_value();

@@ -75,11 +75,20 @@ void AddErrorColumns(std::vector<FrameColumn>& columns, const std::string& prefi
   }
 }
 
-constexpr size_t kColumnsBeforeTracking = 14;  // up to registration_ms
-constexpr size_t kColumnsBeforeHold = 16;      // up to nees
+// A number of an estimate (NaN in a frame without one).
+FrameColumn EstimateNumberColumn(const std::string& name, double FrameRecord::*number) {
+  return {
+      name,
+      [number](std::ostream& s, const FrameRecord& f) { s << (f.estimated ? f.*number : Nan()); },
+      [number](const CsvLine& l, size_t i, FrameRecord& f) { f.*number = l.Number(i); }};
+}
 
-// The columns in the file's order. Earlier runs wrote only the first kColumnsBeforeTracking or
-// kColumnsBeforeHold.
+constexpr size_t kColumnsBeforeTracking = 14;   // up to registration_ms
+constexpr size_t kColumnsBeforeHold = 16;       // up to nees
+constexpr size_t kColumnsBeforeIntegrity = 23;  // up to published_yaw_deg
+
+// The columns in the file's order. Earlier runs wrote only the first kColumnsBeforeTracking,
+// kColumnsBeforeHold or kColumnsBeforeIntegrity.
 const std::vector<FrameColumn>& FrameColumns() {
   static const std::vector<FrameColumn> columns = [] {
     std::vector<FrameColumn> c = {
@@ -120,6 +129,13 @@ const std::vector<FrameColumn>& FrameColumns() {
                    if (f.estimated && !f.published) l.Fail("estimated but not published");
                  }});
     AddErrorColumns(c, "published_", &FrameRecord::published, &FrameRecord::published_error);
+    // Since integrity (issue 42): the estimate's protection levels and alert limits (NaN: none)
+    // and its alert.
+    c.push_back(EstimateNumberColumn("pl_position_m", &FrameRecord::pl_position_m));
+    c.push_back(EstimateNumberColumn("pl_attitude_deg", &FrameRecord::pl_attitude_deg));
+    c.push_back(EstimateNumberColumn("al_position_m", &FrameRecord::al_position_m));
+    c.push_back(EstimateNumberColumn("al_attitude_deg", &FrameRecord::al_attitude_deg));
+    c.push_back(FlagColumn("alert", &FrameRecord::alert));
     return c;
   }();
   return columns;
@@ -134,7 +150,8 @@ std::string HeaderOf(size_t n) {
 
 // How many columns a file with this header line has; 0 when it is no frame CSV header.
 size_t ColumnsOfHeader(const std::string& line) {
-  for (size_t n : {FrameColumns().size(), kColumnsBeforeTracking, kColumnsBeforeHold})
+  for (size_t n :
+       {FrameColumns().size(), kColumnsBeforeTracking, kColumnsBeforeHold, kColumnsBeforeIntegrity})
     if (line == HeaderOf(n)) return n;
   return 0;
 }
@@ -151,7 +168,7 @@ FrameRecord ParseFrameLine(const std::string& path, int number, const std::strin
   }
   FrameRecord f;
   for (size_t i = 0; i < columns; ++i) FrameColumns()[i].read(csv, i, f);
-  if (columns < FrameColumns().size()) {  // no record of held estimates: only the frame's own
+  if (columns < kColumnsBeforeIntegrity) {  // no record of held estimates: only the frame's own
     f.published = f.estimated;
     f.published_error = f.error;
   }

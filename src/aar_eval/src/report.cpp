@@ -7,7 +7,9 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "aar_eval/integrity.h"
 #include "aar_eval/tables.h"
+#include "integrity_section.h"
 #include "markdown.h"
 
 namespace aar_eval {
@@ -194,6 +196,10 @@ ReportResult WriteReport(const ReportOptions& options) {
   WriteCoverage(out, x);
   if (!x.baseline.empty()) WriteHeadline(out, x);
   WriteErrorTables(out, x);
+  const IntegrityOptions integrity{options.protection_level_scale};
+  std::map<std::string, std::map<std::string, IntegrityStats>> integrity_stats;
+  for (const auto& e : x.done) integrity_stats[e] = ComputeIntegrityStats(x.records[e], integrity);
+  WriteIntegritySection(out, x.done, integrity_stats, integrity, options.dir);
   WritePlots(out, options.dir, x.done);
   WriteCaptures(out, options.dir);
   out.close();  // flushes: a full disk shows here, not in the buffered writes

@@ -13,7 +13,9 @@
 
 #include <boost/math/distributions/students_t.hpp>
 
+#include "aar_eval/integrity.h"
 #include "aar_eval/tables.h"
+#include "integrity_section.h"
 #include "markdown.h"
 
 namespace aar_eval {
@@ -323,6 +325,16 @@ SuiteReportResult WriteSuiteReport(const SuiteReportOptions& options) {
   WriteErrorMagnitudes(out, options, stats);
   WriteWrongLocks(out, options, records);
   WritePairedImprovements(out, options, records, stats);
+  const IntegrityOptions integrity{options.protection_level_scale};
+  std::map<std::string, std::map<std::string, IntegrityStats>> summed;  // [experiment][region]
+  for (const auto& [a, by_e] : records) {
+    for (const auto& [e, frames] : by_e) {
+      for (const auto& [key, s] : ComputeIntegrityStats(frames, integrity)) summed[e][key] += s;
+    }
+  }
+  WriteIntegritySection(out, options.experiments, summed, integrity, options.dir,
+                        "Summed over all approaches: counts added, the NEES mean over every frame "
+                        "with a NEES, availability over every frame.");
   out.close();  // flushes: a full disk shows here, not in the buffered writes
   if (out.fail()) throw std::runtime_error(result.path + ": write failed");
   return result;

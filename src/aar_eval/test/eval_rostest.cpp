@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdlib>
 #include <fstream>
 #include <iterator>
@@ -90,7 +91,17 @@ TEST(Eval, FrameWithoutEstimateIsAMissNotACrash) {
       drop.detail = "waited 0.3 s, more than max_frame_age";
       outcomes.publish(drop);
     } else if (k != 4) {
-      estimates.publish(EstimateAt(k, -34.4));
+      aar_msgs::PoseEstimate e = EstimateAt(k, -34.4);
+      if (k == 5) {  // integrity: levels, limits, in alert
+        e.integrity = aar_msgs::PoseEstimate::INTEGRITY_ALERT;
+        e.integrity_reason = "unconfirmed";
+        e.protection_level_position = 0.5;
+        e.protection_level_attitude = 1.5;
+        e.alert_limit_position = 1.0;
+        e.alert_limit_attitude = 2.0;
+        e.integrity_risk = 1e-7;
+      }
+      estimates.publish(e);
     }
     ros::WallDuration(0.2).sleep();
   }
@@ -105,6 +116,15 @@ TEST(Eval, FrameWithoutEstimateIsAMissNotACrash) {
   EXPECT_EQ(records[0].region, aar_geometry::Region::kC);
   EXPECT_NEAR(records[5].error[0], 0.1, 1e-9) << "the intruder's estimate was taken";
   EXPECT_FALSE(records[6].estimated);
+  // Frame 5's integrity is in its row; the others have none (levels of 0) and no alert.
+  EXPECT_EQ(records[3].pl_position_m, 0.5);
+  EXPECT_EQ(records[3].pl_attitude_deg, 1.5);
+  EXPECT_EQ(records[3].al_position_m, 1.0);
+  EXPECT_EQ(records[3].al_attitude_deg, 2.0);
+  EXPECT_TRUE(records[3].alert);
+  EXPECT_TRUE(std::isnan(records[0].pl_position_m));
+  EXPECT_TRUE(std::isnan(records[0].al_attitude_deg));
+  EXPECT_FALSE(records[0].alert);
   EXPECT_EQ(errors, 5);
   const std::string ledger = ReadText("/tmp/aar_eval_rostest/ledger.csv");
   EXPECT_NE(ledger.find("2.000000000,estimated,registration"), std::string::npos) << ledger;

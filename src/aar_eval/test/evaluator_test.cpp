@@ -48,6 +48,43 @@ TEST(Evaluator, NeesOfTheEstimateAgainstItsCovariance) {
   EXPECT_EQ(settled[1].record.track, "off");
 }
 
+// The estimate's protection levels, alert limits and alert are copied; levels of 0 (a publisher
+// without integrity) and a miss's (in alert, levels 0) are none.
+TEST(Evaluator, IntegrityOfTheEstimateIsCopied) {
+  Evaluator eval(1.0, 3);
+  Estimate e = At(-34.4);
+  e.protection_level_position = 0.5;
+  e.protection_level_attitude = 1.5;
+  e.alert_limit_position = 1.0;
+  e.alert_limit_attitude = 2.0;
+  e.alert = true;
+  Estimate miss = At(0.0, false);
+  miss.alert = true;
+  eval.AddFrame(2 * kSecond);
+  eval.AddEstimate(2 * kSecond, e);
+  eval.AddFrame(3 * kSecond);
+  eval.AddEstimate(3 * kSecond, At(-34.4));
+  eval.AddFrame(4 * kSecond);
+  eval.AddEstimate(4 * kSecond, miss);
+  const auto settled = eval.SettleAll(Truth);
+  ASSERT_EQ(settled.size(), 3u);
+  const FrameRecord& with = settled[0].record;
+  EXPECT_EQ(with.pl_position_m, 0.5);
+  EXPECT_EQ(with.pl_attitude_deg, 1.5);
+  EXPECT_EQ(with.al_position_m, 1.0);
+  EXPECT_EQ(with.al_attitude_deg, 2.0);
+  EXPECT_TRUE(with.alert);
+  for (const auto& s : {settled[1], settled[2]}) {
+    EXPECT_TRUE(std::isnan(s.record.pl_position_m));
+    EXPECT_TRUE(std::isnan(s.record.pl_attitude_deg));
+    EXPECT_TRUE(std::isnan(s.record.al_position_m));
+    EXPECT_TRUE(std::isnan(s.record.al_attitude_deg));
+  }
+  EXPECT_FALSE(settled[1].record.alert);
+  EXPECT_FALSE(settled[2].record.estimated);
+  EXPECT_TRUE(settled[2].record.alert);
+}
+
 bool Always(int64_t) { return true; }
 
 TEST(Evaluator, LateEstimatesCountUntilTheFrameIsDue) {

@@ -161,12 +161,92 @@ TEST(Report, MakeReportToolOnMismatchedFrameSetsAndBadInput) {
 
   std::ofstream(dir + "/broken/frames.csv") << FrameCsvHeader() << "\n0,36,C,1\n";
   EXPECT_NE(run(dir + " naive,broken naive"), 0);
-  EXPECT_NE(Read(dir + "/out.txt").find("broken/frames.csv: line 2: 4 cells, 23 expected"),
+  EXPECT_NE(Read(dir + "/out.txt").find("broken/frames.csv: line 2: 4 cells, 28 expected"),
             std::string::npos)
       << Read(dir + "/out.txt");
   EXPECT_NE(run(dir + " nothing"), 0);
   EXPECT_NE(Read(dir + "/out.txt").find("no experiment has results"), std::string::npos);
   EXPECT_EQ(run(dir), 2 << 8);  // usage
+  std::filesystem::remove_all(dir);
+}
+
+// `f` with protection levels (m, deg), the alert limits 1 m and 2 deg, and a NEES.
+FrameRecord WithLevels(FrameRecord f, double pl_m, double pl_deg, double nees) {
+  f.pl_position_m = pl_m;
+  f.pl_attitude_deg = pl_deg;
+  f.al_position_m = 1.0;
+  f.al_attitude_deg = 2.0;
+  f.nees = nees;
+  return f;
+}
+
+// flight: a nominal frame, one 2 m off whose 5 m level is above the 1 m limit (bounded, not
+// available, not in alert), and a miss; naive has no levels (a publisher without integrity).
+// With the levels scaled down to 1 %, both estimates are available and misleading, and the 2 m
+// one hazardously so: the counts that are 0 at scale 1 can fail.
+TEST(Report, IntegritySectionAndScaledLevelsCanFail) {
+  const std::string dir = testing::TempDir() + "/aar_eval_report_integrity";
+  std::filesystem::remove_all(dir);
+  const std::vector<FrameRecord> flight = {WithLevels(Frame(1.0, 0.1), 0.5, 1.0, 5.0),
+                                           WithLevels(Frame(1.1, 2.0), 5.0, 1.0, 30.0),
+                                           Frame(1.2, 0.0, false)};
+  for (const std::string& d : {dir, dir + "/suite/approaches/01", dir + "/suite/approaches/02"}) {
+    std::filesystem::create_directories(d + "/flight");
+    std::filesystem::create_directories(d + "/naive");
+    WriteFrameCsv(d + "/flight/frames.csv", flight);
+    WriteFrameCsv(d + "/naive/frames.csv", {Frame(1.0, 0.4)});
+  }
+  std::filesystem::create_directories(dir + "/plots");
+  std::ofstream(dir + "/plots/flight_stanford.png") << "png";
+  const std::string report = Read(WriteReport({dir, {"naive", "flight"}, "naive"}).path);
+  const size_t section = report.find("## Integrity");
+  ASSERT_NE(section, std::string::npos) << report;
+  EXPECT_GT(section, report.find("## RMS error"));  // after the error tables
+  EXPECT_NE(report.find("| experiment | region | estimated / frames | NEES mean | beyond 99.9 % "
+                        "(%) | misleading | HMI | availability (%) |"),
+            std::string::npos)
+      << report;
+  EXPECT_NE(report.find("| naive | region C | 1 / 1 | - | - | - | - | - |"), std::string::npos)
+      << report;
+  EXPECT_NE(report.find("| flight | region C | 2 / 3 | 17.50 | 50.0 | 0 | 0 | 33.3 |"),
+            std::string::npos)
+      << report;
+  EXPECT_NE(report.find("| flight | whole approach | 2 / 3 | 17.50 | 50.0 | 0 | 0 | 33.3 |"),
+            std::string::npos)
+      << report;
+  EXPECT_NE(report.find("22.458"), std::string::npos);
+  EXPECT_NE(report.find("![flight Stanford diagram](plots/flight_stanford.png)"),
+            std::string::npos);
+  EXPECT_EQ(report.find("scaled by"), std::string::npos);
+
+  // The same through make_report, the levels scaled to 1 %: the report and the suite.
+  auto run = [&](const std::string& args) {
+    return std::system(
+        (std::string(MAKE_REPORT) + " " + args + " > " + dir + "/out.txt 2>&1").c_str());
+  };
+  ASSERT_EQ(run("--protection-level-scale 0.01 " + dir + " naive,flight naive"), 0)
+      << Read(dir + "/out.txt");
+  const std::string scaled = Read(dir + "/report.md");
+  EXPECT_NE(scaled.find("| flight | region C | 2 / 3 | 17.50 | 50.0 | 2 | 1 | 66.7 |"),
+            std::string::npos)
+      << scaled;
+  EXPECT_NE(scaled.find("**Protection levels scaled by 0.01 for a check**"), std::string::npos);
+  ASSERT_EQ(run("--suite " + dir + "/suite naive,flight naive"), 0) << Read(dir + "/out.txt");
+  EXPECT_NE(Read(dir + "/suite/suite.md")
+                .find("| flight | region C | 4 / 6 | 17.50 | 50.0 | 0 | 0 | 33.3 |"),
+            std::string::npos)
+      << Read(dir + "/suite/suite.md");
+  ASSERT_EQ(run("--protection-level-scale 0.01 --suite " + dir + "/suite naive,flight naive"), 0)
+      << Read(dir + "/out.txt");
+  EXPECT_NE(Read(dir + "/suite/suite.md")
+                .find("| flight | region C | 4 / 6 | 17.50 | 50.0 | 4 | 2 | 66.7 |"),
+            std::string::npos)
+      << Read(dir + "/suite/suite.md");
+  // A scale that is no number above 0 is a usage error.
+  for (const char* bad : {"0", "-1", "abc", "nan", ""})
+    EXPECT_EQ(run(std::string("--protection-level-scale ") + bad + " " + dir + " naive"), 2 << 8)
+        << bad;
+  EXPECT_NE(Read(dir + "/out.txt").find("--protection-level-scale F"), std::string::npos);
   std::filesystem::remove_all(dir);
 }
 

@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 
 #include <aar_geometry/load_error.h>
 
@@ -185,15 +186,86 @@ TEST(Tables, CsvRoundTripAndErrors) {
     }
   };
   const std::string header = FrameCsvHeader() + "\n";
-  const std::string held = ",1,0,0,0,0,0,0\n";
+  const std::string held = ",1,0,0,0,0,0,0,nan,nan,nan,nan,0\n";
   expect("t,x\n", "line 1: not a frame CSV header");
-  expect(header + "0,150,A,1\n", "line 2: 4 cells, 23 expected");
+  expect(header + "0,150,A,1\n", "line 2: 4 cells, 28 expected");
   expect(header + "0,150,A,1,abc,0,0,0,0,0,1,1,0,0,off,1" + held, "line 2: 'abc' is not a number");
   expect(header + "0,50,A,1,0,0,0,0,0,0,1,1,0,0,off,1" + held,
          "line 2: region 'A' does not match range 50");
   expect(header + "0,150,A,1,0,0,0,0,0,0,1,1,0,0,off,x" + held, "line 2: 'x' is not a number");
-  expect(header + "0,150,A,1,0,0,0,0,0,0,1,1,0,0,off,1,0,nan,nan,nan,nan,nan,nan\n",
+  expect(header + "0,150,A,1,0,0,0,0,0,0,1,1,0,0,off,1,0,nan,nan,nan,nan,nan,nan,1,1,1,1,0\n",
          "line 2: estimated but not published");
+  expect(header + "0,150,A,1,0,0,0,0,0,0,1,1,0,0,off,1,1,0,0,0,0,0,0,1,x,1,1,0\n",
+         "line 2: 'x' is not a number");
+}
+
+// The integrity columns round-trip; a frame without levels writes and reads NaN; the header
+// before them (the published columns last) still reads, its held estimates kept.
+TEST(Tables, IntegrityColumnsRoundTripAndTheOlderHeaderReads) {
+  const std::string header = FrameCsvHeader();
+  EXPECT_EQ(header.substr(header.find(",published_yaw_deg")),
+            ",published_yaw_deg,pl_position_m,pl_attitude_deg,al_position_m,al_attitude_deg,alert");
+  FrameRecord f;
+  f.t = 1.5;
+  f.range_m = 36.0;
+  f.region = aar_geometry::Region::kC;
+  f.estimated = f.published = true;
+  f.error = f.published_error = {0.5, -0.25, 0, 1, 2, 3};
+  f.pl_position_m = 0.75;
+  f.pl_attitude_deg = 1.125;
+  f.al_position_m = 1.0;
+  f.al_attitude_deg = std::numeric_limits<double>::infinity();
+  f.alert = true;
+  FrameRecord none = f;  // an estimate without integrity
+  none.pl_position_m = none.pl_attitude_deg = none.al_position_m = none.al_attitude_deg =
+      std::numeric_limits<double>::quiet_NaN();
+  none.alert = false;
+  FrameRecord miss = none;
+  miss.estimated = false;
+  miss.published_error = {1, 1, 1, 1, 1, 1};
+  const std::string path = std::filesystem::temp_directory_path().string() + "/aar_eval_pl.csv";
+  WriteFrameCsv(path, {f, none, miss});
+  const auto again = ReadFrameCsv(path);
+  ASSERT_EQ(again.size(), 3u);
+  EXPECT_EQ(again[0].pl_position_m, 0.75);
+  EXPECT_EQ(again[0].pl_attitude_deg, 1.125);
+  EXPECT_EQ(again[0].al_position_m, 1.0);
+  EXPECT_EQ(again[0].al_attitude_deg, std::numeric_limits<double>::infinity());
+  EXPECT_TRUE(again[0].alert);
+  for (const auto& g : {again[1], again[2]}) {
+    EXPECT_TRUE(std::isnan(g.pl_position_m));
+    EXPECT_TRUE(std::isnan(g.pl_attitude_deg));
+    EXPECT_TRUE(std::isnan(g.al_position_m));
+    EXPECT_TRUE(std::isnan(g.al_attitude_deg));
+    EXPECT_FALSE(g.alert);
+  }
+  EXPECT_EQ(FrameCsvRow(f).substr(FrameCsvRow(f).rfind(",3,") + 3), "0.75,1.125,1,inf,1");
+  // A frame not estimated writes no levels whatever its record holds.
+  FrameRecord stale = f;
+  stale.estimated = false;
+  EXPECT_EQ(FrameCsvRow(stale).substr(FrameCsvRow(stale).rfind(",3,") + 3), "nan,nan,nan,nan,1");
+  // The file of the previous format: every column up to published_yaw_deg.
+  std::ifstream in(path);
+  std::string text, line;
+  while (std::getline(in, line)) {
+    size_t end = line.size();
+    for (int i = 0; i < 5; ++i) end = line.rfind(',', end - 1);
+    text += line.substr(0, end) + "\n";
+  }
+  const auto older = ReadFrameCsv(Write("older.csv", text));
+  ASSERT_EQ(older.size(), 3u);
+  EXPECT_EQ(older[0].error, f.error);
+  EXPECT_TRUE(std::isnan(older[0].pl_position_m));
+  EXPECT_FALSE(older[0].alert);
+  EXPECT_TRUE(older[2].published);  // its held estimate is read, not taken from `estimated`
+  EXPECT_EQ(older[2].published_error, miss.published_error);
+  // Read and written again, the frames give the same cells.
+  for (size_t i = 0; i < 3; ++i) {
+    const std::string row = FrameCsvRow(again[i]);
+    size_t end = row.size();
+    for (int k = 0; k < 5; ++k) end = row.rfind(',', end - 1);
+    EXPECT_NE(text.find(row.substr(0, end) + "\n"), std::string::npos) << row;
+  }
 }
 
 }  // namespace

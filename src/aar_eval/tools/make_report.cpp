@@ -5,9 +5,13 @@
 // WriteSuiteReport): means over approaches with 95 % intervals, paired improvements.
 // With --worlds: OUT from the suite DIRs of several worlds (aar_eval::WriteWorldsReport): each
 // realism effect's cost against the first world (scripts/realism).
-//   make_report DIR EXPERIMENT[,EXPERIMENT...] [BASELINE]
-//   make_report --suite DIR EXPERIMENT[,EXPERIMENT...] BASELINE[,BASELINE...]
+// --protection-level-scale F (report and suite): the integrity section's protection levels
+// multiplied by F before they are compared, to check that its counts can fail; the report says so.
+//   make_report [--protection-level-scale F] DIR EXPERIMENT[,EXPERIMENT...] [BASELINE]
+//   make_report [--protection-level-scale F] --suite DIR EXPERIMENT[,EXPERIMENT...]
+//               BASELINE[,BASELINE...]
 //   make_report --worlds OUT EXPERIMENT[,EXPERIMENT...] NAME=DIR,NAME=DIR[,...]
+#include <cmath>
 #include <iostream>
 #include <sstream>
 #include <string>
@@ -27,13 +31,19 @@ std::vector<std::string> Split(const std::string& list) {
   return out;
 }
 
-int Suite(int argc, char** argv) {
+constexpr const char* kScaleUsage =
+    "  --protection-level-scale F: the integrity section's protection levels multiplied by F "
+    "(> 0; default 1) before they are counted, a check that its counts can fail\n";
+
+int Suite(int argc, char** argv, double scale) {
   if (argc != 5) {
-    std::cerr << "usage: make_report --suite DIR EXPERIMENT[,EXPERIMENT...] "
-                 "BASELINE[,BASELINE...]\n";
+    std::cerr << "usage: make_report [--protection-level-scale F] --suite DIR "
+                 "EXPERIMENT[,EXPERIMENT...] BASELINE[,BASELINE...]\n"
+              << kScaleUsage;
     return 2;
   }
   aar_eval::SuiteReportOptions options;
+  options.protection_level_scale = scale;
   options.dir = argv[2];
   options.experiments = Split(argv[3]);
   options.baselines = Split(argv[4]);
@@ -86,19 +96,49 @@ int Worlds(int argc, char** argv) {
   return 0;
 }
 
+// F of a leading --protection-level-scale F, taken out of argv; 1 without one; NaN when F is no
+// number above 0.
+double TakeScale(int& argc, char** argv) {
+  if (argc < 2 || std::string(argv[1]) != "--protection-level-scale") return 1.0;
+  double scale = std::nan("");
+  if (argc > 2) {
+    try {
+      size_t used = 0;
+      const std::string text = argv[2];
+      const double v = std::stod(text, &used);
+      if (used == text.size() && std::isfinite(v) && v > 0.0) scale = v;
+    } catch (const std::exception&) {
+    }
+  }
+  const int taken = argc > 2 ? 2 : 1;
+  for (int i = 1; i + taken < argc; ++i) argv[i] = argv[i + taken];
+  argc -= taken;
+  return scale;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc > 1 && std::string(argv[1]) == "--suite") return Suite(argc, argv);
-  if (argc > 1 && std::string(argv[1]) == "--worlds") return Worlds(argc, argv);
+  const double scale = TakeScale(argc, argv);
+  const bool worlds = argc > 1 && std::string(argv[1]) == "--worlds";
+  if (std::isnan(scale) || (scale != 1.0 && worlds)) {
+    std::cerr << "make_report: --protection-level-scale needs a number above 0, before DIR or "
+                 "--suite (not with --worlds)\n"
+              << kScaleUsage;
+    return 2;
+  }
+  if (argc > 1 && std::string(argv[1]) == "--suite") return Suite(argc, argv, scale);
+  if (worlds) return Worlds(argc, argv);
   if (argc < 3) {
-    std::cerr << "usage: make_report DIR EXPERIMENT[,EXPERIMENT...] [BASELINE]\n"
-                 "       make_report --suite DIR EXPERIMENT[,EXPERIMENT...] "
-                 "BASELINE[,BASELINE...]\n"
-              << "       " << std::string(kWorldsUsage).substr(7);
+    std::cerr << "usage: make_report [--protection-level-scale F] DIR EXPERIMENT[,EXPERIMENT...] "
+                 "[BASELINE]\n"
+                 "       make_report [--protection-level-scale F] --suite DIR "
+                 "EXPERIMENT[,EXPERIMENT...] BASELINE[,BASELINE...]\n"
+              << "       " << std::string(kWorldsUsage).substr(7) << kScaleUsage;
     return 2;
   }
   aar_eval::ReportOptions options;
+  options.protection_level_scale = scale;
   options.dir = argv[1];
   std::stringstream list(argv[2]);
   for (std::string e; std::getline(list, e, ',');) options.experiments.push_back(e);

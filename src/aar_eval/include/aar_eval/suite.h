@@ -23,6 +23,8 @@ struct SuiteReportOptions {
   std::vector<std::string> experiments;  // in table order
   std::vector<std::string> baselines;    // paired improvements against each (e.g. naive, no_boom)
   double confidence = 0.95;
+  // The integrity section's protection levels multiplied by it (IntegrityOptions): checks only.
+  double protection_level_scale = 1.0;
 };
 
 struct SuiteReportResult {
@@ -37,8 +39,10 @@ struct SuiteReportResult {
 // if present; per region, each experiment's coverage and its average error magnitude per
 // component as the mean over approaches with a confidence interval; and each experiment's
 // paired per-approach improvement over each baseline (the thesis's average improvement, on the
-// frames both estimated in that approach) with its interval. Throws std::runtime_error when no
-// approach has results or the report cannot be written, aar_geometry::LoadError for a bad CSV.
+// frames both estimated in that approach) with its interval; integrity per region summed over
+// the approaches (integrity.h) with the Stanford diagrams (DIR/plots/). Throws std::runtime_error
+// when no approach has results or the report cannot be written, aar_geometry::LoadError for a bad
+// CSV.
 SuiteReportResult WriteSuiteReport(const SuiteReportOptions& options);
 
 }  // namespace aar_eval

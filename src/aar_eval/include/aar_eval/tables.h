@@ -33,6 +33,15 @@ struct FrameRecord {
   // estimate); `published_error` is its error against this frame's truth, as `error`.
   bool published = false;
   std::array<double, 6> published_error{};
+  // Integrity, the estimate's own (aar_msgs/PoseEstimate): its protection levels, a bound on the
+  // position error's norm [m] and one on the attitude error's rotation angle [deg], and the alert
+  // limits of its phase; NaN when the frame was not estimated or its estimate has none.
+  double pl_position_m = std::numeric_limits<double>::quiet_NaN();
+  double pl_attitude_deg = std::numeric_limits<double>::quiet_NaN();
+  double al_position_m = std::numeric_limits<double>::quiet_NaN();
+  double al_attitude_deg = std::numeric_limits<double>::quiet_NaN();
+  // The frame's estimate was published in alert (not to be used); false when no estimate came.
+  bool alert = false;
 };
 
 // Which error a table is over: each frame's own estimate (misses left out), or what a live
@@ -95,8 +104,10 @@ double PercentDifference(double value, double baseline);
 
 // CSV of records (header t,range_m,region,estimated,x_m,y_m,z_m,roll_deg,pitch_deg,yaw_deg,
 // converged,iterations,rms_m,registration_ms,track,nees,published,published_x_m, ...,
-// published_yaw_deg). Read also takes the shorter headers of earlier runs (published then
-// means estimated). Throws aar_geometry::LoadError naming file and line.
+// published_yaw_deg,pl_position_m,pl_attitude_deg,al_position_m,al_attitude_deg,alert). Read
+// also takes the shorter headers of earlier runs (without the published columns, published
+// means estimated; without the integrity ones, a frame has no levels and no alert). Throws
+// aar_geometry::LoadError naming file and line.
 void WriteFrameCsv(const std::string& path, const std::vector<FrameRecord>& frames);
 std::vector<FrameRecord> ReadFrameCsv(const std::string& path);
 std::string FrameCsvHeader();
