@@ -28,7 +28,13 @@ FrameIntegrity ClassifyIntegrity(const FrameRecord& f, const IntegrityOptions& o
   FrameIntegrity out;
   const double pl_position = f.pl_position_m * options.protection_level_scale;
   const double pl_attitude = f.pl_attitude_deg * options.protection_level_scale;
-  if (!f.estimated || f.alert || std::isnan(pl_position) || std::isnan(pl_attitude)) return out;
+  // Scaled levels: a frame whose own levels exceeded its limits is taken as alerted for that
+  // alone, and its alert follows the scaled levels (the publisher raises that alert itself).
+  bool alert = f.alert;
+  if (alert && options.protection_level_scale != 1.0 &&
+      (f.pl_position_m > f.al_position_m || f.pl_attitude_deg > f.al_attitude_deg))
+    alert = pl_position > f.al_position_m || pl_attitude > f.al_attitude_deg;
+  if (!f.estimated || alert || std::isnan(pl_position) || std::isnan(pl_attitude)) return out;
   const double position = PositionErrorNorm(f);
   const double attitude = AttitudeErrorAngleDeg(f);
   out.misleading = position > pl_position || attitude > pl_attitude;

@@ -122,13 +122,14 @@ TEST(Integrity, RegionCountsByHand) {
   EXPECT_TRUE(std::isnan(IntegrityStats{}.Availability()));
 }
 
-// Levels scaled down: frames whose level was above the limit (not in alert) become available,
-// and those whose error exceeds a limit hazardously misleading; the alert still excludes.
+// Levels scaled down: frames in alert because their levels exceeded the limits (what the
+// publisher does) lose that alert, and those whose error exceeds a limit are hazardously
+// misleading; an alert for another reason (an unconfirmed track: levels within the limits) stays.
 TEST(Integrity, ScaledLevelsCanFail) {
   std::vector<FrameRecord> frames = {Frame(35.0, 0.5, 0.5, 5.0, 5.0),   // error within the limits
                                      Frame(35.0, 2.0, 0.5, 5.0, 5.0),   // beyond 1 m
-                                     Frame(35.0, 2.0, 0.5, 5.0, 5.0)};  // the same, in alert
-  frames[2].alert = true;
+                                     Frame(35.0, 2.0, 0.5, 0.5, 1.0)};  // unconfirmed
+  for (FrameRecord& f : frames) f.alert = true;
   const IntegrityStats one = ComputeIntegrityStats(frames).at("C");
   EXPECT_EQ(one.misleading, 0);
   EXPECT_EQ(one.hazardous, 0);

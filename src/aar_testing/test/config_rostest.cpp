@@ -248,6 +248,7 @@ TEST(Config, RegistrationYamlHoldsTheStructsDefaults) {
   EXPECT_EQ(yo.start_sigma_position, bo.start_sigma_position);
   EXPECT_EQ(yo.start_sigma_rotation, bo.start_sigma_rotation);
   EXPECT_EQ(yo.disparity_sigma, bo.disparity_sigma);
+  EXPECT_EQ(yo.disparity_rotation, bo.disparity_rotation);
   EXPECT_EQ(yo.image_start, bo.image_start);
   EXPECT_EQ(yo.image_start_quality, bo.image_start_quality);
   EXPECT_EQ(yo.acquisition.min_range, bo.acquisition.min_range);

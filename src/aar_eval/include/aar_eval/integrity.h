@@ -20,8 +20,9 @@ double AttitudeErrorAngleDeg(const FrameRecord& frame);
 
 struct IntegrityOptions {
   // The protection levels are multiplied by it before they are compared (with the errors and the
-  // alert limits): below 1 it shows what levels that much smaller would have let through. 1 for
-  // the real figures; other values for checks only.
+  // alert limits): below 1 it shows what levels that much smaller would have let through. A frame
+  // in alert whose own levels exceeded its limits is taken as alerted for that alone: its alert
+  // follows the scaled levels. 1 for the real figures; other values for checks only.
   double protection_level_scale = 1.0;
 };
 

@@ -72,6 +72,11 @@ struct OutlineOptions {
   // the left camera's ray to the receiver, over the independent correspondences (IcpOptions).
   // [px]; 0: off (ICP's covariance from its residuals only).
   double disparity_sigma = 0.0;
+  // The same range noise also turns the receiver about the axes across the ray (points at lever
+  // arm l across it move by l dtheta in range): added to ICP's rotation covariance. Far out ICP's
+  // own covariance, from residuals its correspondence distance cuts short, claims a degree where
+  // the noise allows several (docs/INTEGRITY.md). Needs disparity_sigma.
+  bool disparity_rotation = false;
   // [1/m^2, 1/rad^2] added to the alignment's information before it is inverted into a
   // measurement covariance: directions the outline does not see get no weight.
   double information_floor_position = 1e-4;
@@ -88,13 +93,14 @@ struct OutlineFrame {
   std::vector<std::vector<Eigen::Vector3d>> boom_parts_in_tanker;
 };
 
-// Image errors that persist from frame to frame (a silhouette's edge found a fraction of a pixel
-// off for seconds as the view changes slowly; texture behind the receiver; stereo's fattening).
-// The filter averages frames as if their errors were independent, so its covariance shrinks
-// below what these allow; the published covariance adds them back (docs/INTEGRITY.md): a
-// persistent error of pixel_sigma in the images moves the receiver Z pixel_sigma / f across the
-// line of sight, Z^2 pixel_sigma / (f W) along it (W the receiver's size, the outline's range
-// cue) and turns it by pixel_sigma Z / (f W). Needs the frame's cameras (the outline's).
+// Image errors that persist from frame to frame (a silhouette's edges found a fraction of a pixel
+// out or in for seconds as the view changes slowly: blur, texture behind the receiver, stereo's
+// fattening). The filter averages frames as if their errors were independent, so its covariance
+// shrinks below what these allow; the published covariance adds them back (docs/INTEGRITY.md):
+// the receiver's apparent size off by pixel_sigma puts it Z^2 pixel_sigma / (f W) off in range
+// (W the receiver's size) and one end against the other turns it by pixel_sigma Z / (f W). A
+// shift of both edges together (across the line of sight) is not modelled: measured, it is a
+// third to a fifth of the size's. Needs the frame's cameras (the outline's).
 struct PersistentErrorOptions {
   double pixel_sigma = 0.0;  // [px]; 0: off (the filter's covariance as it is)
 };
@@ -239,6 +245,10 @@ class Registrar {
   Eigen::Isometry3d StartPose(const Eigen::Isometry3d& T) const;
   // ICP's covariance in the tanker frame, with stereo's range noise when asked for.
   Matrix6d IcpCovariance(const RegistrarResult& out, const OutlineFrame* frame) const;
+  // The rotation covariance [rad^2, tanker frame] that stereo's range noise sigma_z [m] of each
+  // of `independent` points along the ray `u` gives a reference turned by R.
+  Eigen::Matrix3d RangeNoiseRotation(const Eigen::Matrix3d& R, const Eigen::Vector3d& u,
+                                     double sigma_z, double independent) const;
   // The covariance of the errors that persist across frames at pose `T` (PersistentErrorOptions);
   // zero without the frame's cameras or the receiver's size.
   Matrix6d PersistentCovariance(const Eigen::Isometry3d& T, const OutlineFrame* frame) const;

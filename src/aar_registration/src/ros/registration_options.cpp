@@ -98,6 +98,7 @@ OutlineOptions LoadOutlineOptions(aar_ros_common::ParamReader& params, OutlineOp
   outline.start_sigma_rotation = aar_geometry::DegToRad(params.Get(
       "outline_start_sigma_rotation_deg", aar_geometry::RadToDeg(outline.start_sigma_rotation)));
   outline.disparity_sigma = params.Get("outline_disparity_sigma", outline.disparity_sigma);
+  outline.disparity_rotation = params.Get("outline_disparity_rotation", outline.disparity_rotation);
   outline.image_start = params.Get("outline_image_start", outline.image_start);
   outline.image_start_quality =
       params.Get("outline_image_start_quality", outline.image_start_quality);
