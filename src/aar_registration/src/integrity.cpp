@@ -4,8 +4,8 @@
 #include <sstream>
 #include <stdexcept>
 
-#include <boost/math/distributions/chi_squared.hpp>
 #include <Eigen/Eigenvalues>
+#include <boost/math/distributions/chi_squared.hpp>
 
 namespace aar_registration {
 namespace {

@@ -303,7 +303,7 @@ Matrix6d Registrar::PersistentCovariance(const Eigen::Isometry3d& T,
   // The receiver's apparent size off by sigma_px: its range by Z^2 sigma_px / (f W); one end's
   // edge off against the other's turns it by sigma_px Z / (f W).
   const double turn = z * sigma_px / (frame->left_camera.fx * receiver_size_m_);  // [rad]
-  const double along = turn * z;                                                   // [m]
+  const double along = turn * z;                                                  // [m]
   c.topLeftCorner<3, 3>() = along * along * u * u.transpose();
   c.bottomRightCorner<3, 3>().diagonal().setConstant(turn * turn);
   return c;
@@ -474,10 +474,10 @@ void Registrar::Track(double stamp_s, const std::vector<Eigen::Vector3d>& sensed
     out.track = tracker_.Reject(stamp_s, "registration rejected: " + gate);
   } else {
     const bool start = tracker_.state() != TrackState::kTracking;
-    out.track = tracker_.Update(stamp_s,
-                                start ? StartPose(out.T_tanker_receiver_registered)
-                                      : out.T_tanker_receiver_registered,
-                                IcpCovariance(out, frame));
+    out.track = tracker_.Update(
+        stamp_s,
+        start ? StartPose(out.T_tanker_receiver_registered) : out.T_tanker_receiver_registered,
+        IcpCovariance(out, frame));
     out.registration_fused = out.track.outcome == TrackOutcome::kAccepted;
   }
   if (!outline || tracker_.state() != TrackState::kTracking) return;

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <sstream>
 #include <stdexcept>
 #include <tuple>
@@ -113,18 +112,6 @@ TrackPrediction Tracker::Predict(double stamp_s) const {
   Matrix12d P = P_;
   Propagate(stamp_s, p, R, P);
   return State(p, R, P);
-}
-
-double Tracker::Mahalanobis2(double stamp_s, const Eigen::Isometry3d& T_tanker_receiver,
-                             const Matrix6d& covariance) const {
-  const TrackPrediction prediction = Predict(stamp_s);
-  if (!prediction.valid || !T_tanker_receiver.matrix().allFinite() || !covariance.allFinite())
-    return std::numeric_limits<double>::quiet_NaN();
-  Vector6d y;
-  y << T_tanker_receiver.translation() - prediction.T_tanker_receiver.translation(),
-      Log(Orthonormal(T_tanker_receiver.linear()) *
-          prediction.T_tanker_receiver.linear().transpose());
-  return y.dot((prediction.covariance + covariance).ldlt().solve(y));
 }
 
 TrackUpdate Tracker::Lose(TrackOutcome outcome, const std::string& reason) {

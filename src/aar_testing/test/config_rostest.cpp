@@ -504,8 +504,9 @@ TEST(Config, ReceiverGateOffByDefaultBadValuesRefused) {
   }
 }
 
-// flight is tracking_outline's settings under the name users fly with, and flight_no_boom is
-// flight with the boom hidden and modelled by no stage: every other key the same.
+// flight is tracking_outline's settings and the integrity's two covariance terms
+// (docs/INTEGRITY.md) under the name users fly with, and flight_no_boom is flight with the boom
+// hidden and modelled by no stage: every other key the same.
 TEST(Config, FlightHoldsTrackingOutlinesSettings) {
   const auto tree = [](const std::string& experiment) {
     XmlRpc::XmlRpcValue value;
@@ -514,7 +515,21 @@ TEST(Config, FlightHoldsTrackingOutlinesSettings) {
   };
   XmlRpc::XmlRpcValue outline = tree("tracking_outline"), flight = tree("flight"),
                       no_boom = tree("flight_no_boom");
-  EXPECT_TRUE(flight.toXml() == outline.toXml()) << "flight differs from tracking_outline";
+  EXPECT_TRUE(static_cast<bool>(flight["registration"]["outline_disparity_rotation"]));
+  EXPECT_EQ(static_cast<double>(flight["registration"]["persistent_pixel_sigma"]), 0.2);
+  for (auto& [ns, keys] : flight) {
+    if (ns != "registration") {
+      EXPECT_TRUE(keys.toXml() == outline[ns].toXml()) << ns << ": flight differs";
+      continue;
+    }
+    for (auto& [key, value] : keys) {
+      if (key == "outline_disparity_rotation" || key == "persistent_pixel_sigma") continue;
+      EXPECT_TRUE(outline[ns].hasMember(key) && value.toXml() == outline[ns][key].toXml())
+          << key << ": flight differs from tracking_outline";
+    }
+    EXPECT_EQ(keys.size(), outline[ns].size()) << "registration: keys tracking_outline lacks";
+  }
+  EXPECT_EQ(flight.size(), outline.size());
   EXPECT_FALSE(static_cast<bool>(no_boom["sim"]["boom"]));
   EXPECT_FALSE(static_cast<bool>(no_boom["occlusion"]["model_boom"]));
   EXPECT_FALSE(static_cast<bool>(no_boom["registration"]["model_boom"]));

@@ -57,11 +57,10 @@ WrongStart RunWrongStart(const std::string& tag, int confirm_frames) {
       FlightWith(tag, "  fault_start_offset: 8.0\n  integrity_confirm_frames: " +
                           std::to_string(confirm_frames) + "\n");
   WrongStart w;
-  w.run = aar_testing::RunPipeline(
-      "integrity_" + tag,
-      "experiment:=flight experiment_file:=" + yaml +
-          " start_time:=22 frames:=" + std::to_string(kFrames),
-      240.0 * aar_testing::TimeScale());
+  w.run = aar_testing::RunPipeline("integrity_" + tag,
+                                   "experiment:=flight experiment_file:=" + yaml +
+                                       " start_time:=22 frames:=" + std::to_string(kFrames),
+                                   240.0 * aar_testing::TimeScale());
   std::filesystem::remove(yaml);
   if (!w.run.error.empty()) return w;
   w.frames = aar_eval::ReadFrameCsv(w.run.output_dir + "/frames.csv");

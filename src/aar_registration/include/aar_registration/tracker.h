@@ -81,10 +81,6 @@ class Tracker {
   // rotation; tanker frame). A non-finite pose or covariance counts as a miss.
   TrackUpdate Update(double stamp_s, const Eigen::Isometry3d& T_tanker_receiver,
                      const Matrix6d& covariance);
-  // The squared Mahalanobis distance of a measurement at `stamp_s` to the track's prediction
-  // (the innovation the gate tests; the filter is not changed); NaN without a prediction.
-  double Mahalanobis2(double stamp_s, const Eigen::Isometry3d& T_tanker_receiver,
-                      const Matrix6d& covariance) const;
   // A frame at `stamp_s` without a registration (kMissed), or with one that failed a check
   // before the tracker's gate (kRejected, with `reason`).
   TrackUpdate Miss(double stamp_s);

@@ -163,8 +163,8 @@ std::vector<AlertBand> LoadAlertBands(aar_ros_common::ParamReader& params,
     if (i < ranges.size()) bands[i].max_range_m = ranges[i];
     bands[i].position_m = positions[i];
     bands[i].attitude_deg = attitudes[i];
-    params.Check(i == 0 || i == ranges.size() || ranges[i] > ranges[i - 1],
-                 "alert_band_max_range", "must rise");
+    params.Check(i == 0 || i == ranges.size() || ranges[i] > ranges[i - 1], "alert_band_max_range",
+                 "must rise");
     params.Check(positions[i] > 0.0, "alert_limit_position", "must be > 0");
     params.Check(attitudes[i] > 0.0, "alert_limit_attitude_deg", "must be > 0");
   }
