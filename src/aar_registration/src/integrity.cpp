@@ -88,7 +88,9 @@ IntegrityResult IntegrityMonitor::Assess(const IntegrityInput& in) {
   }
   const std::string unconfirmed = Confirm(in);
   out.confirmed = confirmed_;
-  out.levels = ComputeProtectionLevels(in.covariance, options_);
+  out.covariance = in.covariance;
+  if (!unconfirmed.empty()) out.covariance += in.acquisition_covariance;
+  out.levels = ComputeProtectionLevels(out.covariance, options_);
   out.risk = options_.integrity_risk;
   out.limits = BandOfRange(options_.bands, in.T_tanker_receiver.translation().norm());
   std::ostringstream s;

@@ -317,7 +317,9 @@ void Registrar::AssessIntegrity(RegistrarResult& out) {
   in.tracking = out.tracking;
   in.outcome = out.track.outcome;
   in.agreeing = out.registration_fused && (!out.outline_ran || out.outline_fused);
+  in.acquisition_covariance = StartCovariance();
   out.integrity = integrity_.Assess(in);
+  if (out.valid) out.covariance = out.integrity.covariance;
 }
 
 namespace {

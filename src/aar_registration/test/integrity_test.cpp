@@ -114,6 +114,25 @@ TEST(Integrity, AStartIsInAlertUntilConfirmed) {
   EXPECT_FALSE(trusting.Assess(Frame(TrackOutcome::kStarted, true)).alert);
 }
 
+// An unconfirmed track publishes the covariance an acquisition can be off by, and levels from it;
+// a confirmed one its own.
+TEST(Integrity, AnUnconfirmedTrackCarriesTheAcquisitionsCovariance) {
+  IntegrityOptions o;
+  o.confirm_frames = 1;
+  o.overbound_factor = 1.0;
+  IntegrityMonitor m(o);
+  IntegrityInput start = Frame(TrackOutcome::kStarted, true);
+  start.acquisition_covariance.diagonal() << 4.0, 4.0, 4.0, 0.0025, 0.0025, 0.0025;
+  const IntegrityResult unconfirmed = m.Assess(start);
+  EXPECT_NEAR(unconfirmed.covariance(0, 0), 4.0 + 1e-4, 1e-12);
+  EXPECT_NEAR(unconfirmed.levels.position_m, ProtectionFactor(1e-5) * std::sqrt(4.0001), 1e-9);
+  IntegrityInput next = Frame(TrackOutcome::kAccepted, true);
+  next.acquisition_covariance = start.acquisition_covariance;
+  const IntegrityResult confirmed = m.Assess(next);
+  EXPECT_FALSE(confirmed.alert) << confirmed.reason;
+  EXPECT_TRUE(confirmed.covariance.isApprox(next.covariance));
+}
+
 TEST(Integrity, ALevelBeyondThePhasesLimitIsAnAlertThatSaysSo) {
   IntegrityOptions o;
   o.confirm_frames = 0;

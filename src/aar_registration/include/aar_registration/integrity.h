@@ -72,11 +72,16 @@ struct IntegrityInput {
   // Every measurement this frame has (the registration, and the outline when it runs) was
   // accepted by the filter: the sensors agree with the track.
   bool agreeing = false;
+  // [m^2, rad^2] how far off an acquisition can be: added to the covariance of a track not yet
+  // confirmed, which may be a wrong one.
+  Matrix6d acquisition_covariance = Matrix6d::Zero();
 };
 
 struct IntegrityResult {
   bool alert = true;
   std::string reason;  // why in alert; empty when not
+  // The covariance to publish: the input's, with the acquisition's while unconfirmed.
+  Matrix6d covariance = Matrix6d::Zero();
   ProtectionLevels levels;
   AlertBand limits;   // the phase's
   double risk = 0.0;  // per frame, that of the levels (IntegrityOptions::integrity_risk)

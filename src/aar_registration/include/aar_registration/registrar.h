@@ -252,7 +252,8 @@ class Registrar {
   // The covariance of the errors that persist across frames at pose `T` (PersistentErrorOptions);
   // zero without the frame's cameras or the receiver's size.
   Matrix6d PersistentCovariance(const Eigen::Isometry3d& T, const OutlineFrame* frame) const;
-  // The frame's integrity from its pose, covariance and what the tracker did.
+  // The frame's integrity from its pose, covariance and what the tracker did; an unconfirmed
+  // track's covariance gains the start's (StartCovariance: how far off an acquisition can be).
   void AssessIntegrity(RegistrarResult& out);
 
   RegistrarOptions options_;
