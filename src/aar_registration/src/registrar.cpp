@@ -7,8 +7,6 @@
 #include <sstream>
 #include <stdexcept>
 
-#include <Eigen/Eigenvalues>
-
 namespace aar_registration {
 
 void OutlineOptions::Validate() const {
@@ -225,88 +223,12 @@ Matrix6d MeasurementCovariance(const aar_alignment::AlignmentResult& a, const Ou
 
 }  // namespace
 
-Matrix6d Registrar::StartCovariance() const {
-  Vector6d sigma;
-  sigma << Eigen::Vector3d::Constant(options_.outline.start_sigma_position),
-      Eigen::Vector3d::Constant(options_.outline.start_sigma_rotation);
-  return sigma.cwiseAbs2().asDiagonal();
-}
-
 Eigen::Isometry3d Registrar::StartPose(const Eigen::Isometry3d& T) const {
   const double offset = options_.fault_start_offset_m;
   if (offset == 0.0 || !(T.translation().norm() > 0.0)) return T;
   Eigen::Isometry3d moved = T;
   moved.translation() += offset * T.translation().normalized();
   return moved;
-}
-
-Matrix6d Registrar::IcpCovariance(const RegistrarResult& out, const OutlineFrame* frame) const {
-  Matrix6d covariance = CovarianceInTanker(out.icp.covariance, out.T_tanker_receiver_registered);
-  const double sigma_d = options_.outline.disparity_sigma;
-  if (!frame || !(sigma_d > 0.0)) return covariance;
-  const aar_alignment::PinholeCamera& left = frame->left_camera;
-  const double baseline =
-      (frame->right_camera.T_tanker_optical.translation() - left.T_tanker_optical.translation())
-          .norm();
-  const Eigen::Vector3d ray =
-      out.T_tanker_receiver_registered.translation() - left.T_tanker_optical.translation();
-  const double z = ray.norm();
-  if (!(baseline > 0.0) || !(z > 0.0)) return covariance;
-  const double sigma_z = z * z * sigma_d / (left.fx * baseline);  // [m] of one point
-  const double independent = std::max(
-      1.0, std::min<double>(out.icp.correspondences, options_.icp.independent_correspondences));
-  const Eigen::Vector3d u = ray / z;
-  covariance.topLeftCorner<3, 3>() += u * u.transpose() * sigma_z * sigma_z / independent;
-  if (options_.outline.disparity_rotation)
-    covariance.bottomRightCorner<3, 3>() +=
-        RangeNoiseRotation(out.T_tanker_receiver_registered.linear(), u, sigma_z, independent);
-  return covariance;
-}
-
-Eigen::Matrix3d Registrar::RangeNoiseRotation(const Eigen::Matrix3d& R, const Eigen::Vector3d& u,
-                                              double sigma_z, double independent) const {
-  Eigen::Matrix3d c = Eigen::Matrix3d::Zero();
-  if (reference_points_.size() < 3) return c;
-  // The reference's spread across the ray, in the tanker frame.
-  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-  Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
-  for (const Eigen::Vector3d& p : reference_points_) {
-    mean += p;
-    scatter += p * p.transpose();
-  }
-  const double n = static_cast<double>(reference_points_.size());
-  mean /= n;
-  scatter = scatter / n - mean * mean.transpose();
-  const Eigen::Matrix3d across = Eigen::Matrix3d::Identity() - u * u.transpose();
-  const Eigen::Matrix3d spread = across * R * scatter * R.transpose() * across;
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(spread);
-  for (int i = 0; i < 3; ++i) {
-    const double l2 = eig.eigenvalues()(i);  // [m^2] mean squared lever arm along v
-    const Eigen::Vector3d v = eig.eigenvectors().col(i);
-    if (!(l2 > 1e-6) || std::abs(v.dot(u)) > 0.5) continue;  // u itself: no lever arm
-    const Eigen::Vector3d axis = u.cross(v).normalized();    // turning about it moves v in range
-    c += axis * axis.transpose() * sigma_z * sigma_z / (independent * l2);
-  }
-  return c;
-}
-
-Matrix6d Registrar::PersistentCovariance(const Eigen::Isometry3d& T,
-                                         const OutlineFrame* frame) const {
-  Matrix6d c = Matrix6d::Zero();
-  const double sigma_px = options_.persistent_error.pixel_sigma;
-  if (!frame || !(sigma_px > 0.0) || !(receiver_size_m_ > 0.0) || !(frame->left_camera.fx > 0.0))
-    return c;
-  const Eigen::Vector3d ray = T.translation() - frame->left_camera.T_tanker_optical.translation();
-  const double z = ray.norm();
-  if (!(z > 0.0)) return c;
-  const Eigen::Vector3d u = ray / z;
-  // The receiver's apparent size off by sigma_px: its range by Z^2 sigma_px / (f W); one end's
-  // edge off against the other's turns it by sigma_px Z / (f W).
-  const double turn = z * sigma_px / (frame->left_camera.fx * receiver_size_m_);  // [rad]
-  const double along = turn * z;                                                  // [m]
-  c.topLeftCorner<3, 3>() = along * along * u * u.transpose();
-  c.bottomRightCorner<3, 3>().diagonal().setConstant(turn * turn);
-  return c;
 }
 
 void Registrar::AssessIntegrity(RegistrarResult& out) {

@@ -245,10 +245,6 @@ class Registrar {
   Eigen::Isometry3d StartPose(const Eigen::Isometry3d& T) const;
   // ICP's covariance in the tanker frame, with stereo's range noise when asked for.
   Matrix6d IcpCovariance(const RegistrarResult& out, const OutlineFrame* frame) const;
-  // The rotation covariance [rad^2, tanker frame] that stereo's range noise sigma_z [m] of each
-  // of `independent` points along the ray `u` gives a reference turned by R.
-  Eigen::Matrix3d RangeNoiseRotation(const Eigen::Matrix3d& R, const Eigen::Vector3d& u,
-                                     double sigma_z, double independent) const;
   // The covariance of the errors that persist across frames at pose `T` (PersistentErrorOptions);
   // zero without the frame's cameras or the receiver's size.
   Matrix6d PersistentCovariance(const Eigen::Isometry3d& T, const OutlineFrame* frame) const;
