@@ -611,6 +611,39 @@ TEST(Config, TrackerKeysAreRefusedUnderTheirYamlNames) {
   }
 }
 
+// Integrity's keys (docs/INTEGRITY.md): out-of-range values, alert bands that do not rise, limit
+// lists of the wrong length and a number where a list belongs are refused naming the key.
+TEST(Config, IntegrityKeysAreRefusedUnderTheirYamlNames) {
+  const std::vector<std::pair<std::string, XmlRpc::XmlRpcValue>> bad_values = {
+      {"integrity_risk", XmlRpc::XmlRpcValue(0.0)},
+      {"integrity_risk", XmlRpc::XmlRpcValue(1.0)},
+      {"integrity_overbound_factor", XmlRpc::XmlRpcValue(0.5)},
+      {"integrity_position_bias", XmlRpc::XmlRpcValue(-0.1)},
+      {"integrity_confirm_frames", XmlRpc::XmlRpcValue(-1)},
+      {"persistent_pixel_sigma", XmlRpc::XmlRpcValue(-0.2)},
+      {"alert_limit_position", XmlRpc::XmlRpcValue(2.0)}};
+  int n = 0;
+  for (const auto& [key, value] : bad_values) {
+    ros::NodeHandle bad("/registration_integrity_bad_" + std::to_string(n++));
+    bad.setParam(key, value);
+    ExpectRefusedByName(bad, key, [&] { aar_registration::LoadRegistrationNodeOptions(bad); });
+  }
+  const auto list = [](std::vector<double> values) {
+    XmlRpc::XmlRpcValue v;
+    v.setSize(static_cast<int>(values.size()));
+    for (size_t i = 0; i < values.size(); ++i) v[static_cast<int>(i)] = values[i];
+    return v;
+  };
+  ros::NodeHandle short_limits("/registration_integrity_bad_short");
+  short_limits.setParam("alert_limit_position", list({0.5, 2.0}));
+  ExpectRefusedByName(short_limits, "alert_limit_position",
+                      [&] { aar_registration::LoadRegistrationNodeOptions(short_limits); });
+  ros::NodeHandle falling("/registration_integrity_bad_falling");
+  falling.setParam("alert_band_max_range", list({70.0, 38.0}));
+  ExpectRefusedByName(falling, "alert_band_max_range",
+                      [&] { aar_registration::LoadRegistrationNodeOptions(falling); });
+}
+
 // The outline (registration's `outline`, issue 27) is off unless asked for; out-of-range keys,
 // and the outline without tracking, are refused naming the key.
 TEST(Config, OutlineOffByDefaultBadValuesRefused) {
