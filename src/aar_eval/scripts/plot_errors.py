@@ -8,22 +8,29 @@ import math
 import os
 import sys
 
-import matplotlib
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
+
+def pyplot():
+    """matplotlib's pyplot (Agg), imported only when there is something to draw: a run that failed
+    before its first frame ends without its second of start-up."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot
+    return matplotlib.pyplot
 
 
 def main():
     if len(sys.argv) != 3:
         sys.exit(__doc__)
     out_dir, experiments = sys.argv[1], sys.argv[2].split(",")
+    plt = None
     os.makedirs(os.path.join(out_dir, "plots"), exist_ok=True)
     for experiment in experiments:
         path = os.path.join(out_dir, experiment, "frames.csv")
         if not os.path.exists(path):
             print(f"plot_errors: {path} is missing, no plots for '{experiment}'", file=sys.stderr)
             continue
+        plt = plt or pyplot()
         with open(path) as f:
             rows = [r for r in csv.DictReader(f) if r["estimated"] == "1"]
         ranges = [float(r["range_m"]) for r in rows]

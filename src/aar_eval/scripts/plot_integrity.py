@@ -21,12 +21,21 @@ import math
 import os
 import sys
 
-import matplotlib
+# matplotlib and numpy, imported by load_plotting only when there is something to draw: a run
+# that failed before its first frame ends without their second of start-up.
+plt = LogNorm = np = None
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-from matplotlib.colors import LogNorm  # noqa: E402
-import numpy as np  # noqa: E402
+
+def load_plotting():
+    global plt, LogNorm, np
+    if plt is not None:
+        return
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot
+    import matplotlib.colors
+    import numpy
+    plt, LogNorm, np = matplotlib.pyplot, matplotlib.colors.LogNorm, numpy
 
 NEEDED = ("region", "estimated", "x_m", "y_m", "z_m", "roll_deg", "pitch_deg", "yaw_deg",
           "pl_position_m", "pl_attitude_deg", "al_position_m", "al_attitude_deg", "alert")
@@ -168,6 +177,7 @@ def main():
             print(f"plot_integrity: no protection level in the frames of '{experiment}' (a "
                   "publisher without integrity), no Stanford diagram", file=sys.stderr)
             continue
+        load_plotting()
         fig, axes = plt.subplots(2, 3, figsize=(16, 10), dpi=100)
         for row, (quantity, level, limit, unit) in enumerate(QUANTITIES):
             for column, region in enumerate(REGIONS):

@@ -1,5 +1,6 @@
 #include "aar_registration/integrity.h"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
