@@ -42,9 +42,11 @@ TEST(FailFast, AStageRefusingAParameterEndsTheRunNamingTheKey) {
   EXPECT_NE(r.output.find("registration cannot start: its process ends"), std::string::npos)
       << r.output;
   EXPECT_NE(r.output.find("1 attempt(s)"), std::string::npos) << "retried: " << r.output;
-  // Measured 2.7 to 3.1 s (was 6.1 s: the simulator, still building its world, held the launch
-  // up; 106 s before the stage ended its process); the 20 frames would take 5 s each.
-  EXPECT_LT(r.seconds, 5.0 * aar_testing::TimeScale()) << r.output;
+  // Measured 2.7 to 3.1 s on issue 31's machine (was 6.1 s: the simulator, still building its
+  // world, held the launch up; 106 s before the stage ended its process). On a later machine of
+  // the same kind 4.5 to 5.6 s, and the same at 708b1ef (6 runs, 3 each, side by side). What it
+  // guards: the 20 frames would take 5 s each.
+  EXPECT_LT(r.seconds, 8.0 * aar_testing::TimeScale()) << r.output;
   EXPECT_NE(Read("/tmp/aar_fail_fast_value/run.json").find("\"reason\""), std::string::npos);
 }
 
