@@ -84,9 +84,9 @@ TEST(IntegrityGraph, AWrongStartIsPublishedInAlertUntilConfirmed) {
   ASSERT_TRUE(confirmed.run.error.empty()) << confirmed.run.error;
   EXPECT_EQ(confirmed.run.status, 0) << confirmed.run.output_dir << ".log";
   ASSERT_EQ(confirmed.frames.size(), size_t(kFrames));
-  // Measured: 1 start (7.97 m off, its level 0.23 m), in alert with the 9 frames after it (the
-  // outline's maneuver rule put the track back on the receiver at the next frame, 3 mm off); 0
-  // misleading; 20 frames available.
+  // Measured: 1 start, 7.97 m off, in alert with the 5 frames after it (the outline's maneuver
+  // rule put the track back on the receiver at the next frame, 3 mm off); 0 misleading; 24
+  // frames available (9 frames after it and 20 available before flight's covariance terms).
   EXPECT_GE(confirmed.starts, 1);
   EXPECT_EQ(confirmed.starts_in_alert, confirmed.starts);
   EXPECT_EQ(confirmed.all.misleading, 0);
