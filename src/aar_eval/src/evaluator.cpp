@@ -18,11 +18,6 @@ double ToSec(int64_t stamp_ns) {
          1e-9 * static_cast<double>(stamp_ns % 1000000000);
 }
 
-// |x, y, z| of a frame's position error [m].
-double PositionError(const FrameRecord& f) {
-  return std::sqrt(f.error[0] * f.error[0] + f.error[1] * f.error[1] + f.error[2] * f.error[2]);
-}
-
 // The estimate's error against its covariance (NaN when it has none or it is singular).
 double Nees(const Eigen::Isometry3d& truth, const Estimate& e) {
   const Eigen::AngleAxisd aa(truth.linear() * e.T_tanker_receiver.linear().transpose());
@@ -147,7 +142,7 @@ void Evaluator::Score(const Eigen::Isometry3d& T_truth, SettledFrame& s) {
       f.pl_attitude_deg = LevelOrNan(est.protection_level_attitude);
       f.al_position_m = LevelOrNan(est.alert_limit_position);
       f.al_attitude_deg = LevelOrNan(est.alert_limit_attitude);
-      position_sum_ += PositionError(f);
+      position_sum_ += PositionErrorNorm(f);
       ++estimated_;
     }
     f.track = est.track;
@@ -170,7 +165,7 @@ std::string Evaluator::ProgressLine(const FrameRecord& f) const {
        << std::fixed << std::setprecision(1) << f.range_m << " m (region "
        << aar_geometry::RegionName(f.region) << "): " << std::setprecision(3);
   if (f.estimated)
-    line << "error " << PositionError(f) << " m";
+    line << "error " << PositionErrorNorm(f) << " m";
   else
     line << "MISSED";
   if (estimated_ > 0)

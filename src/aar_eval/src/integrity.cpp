@@ -13,10 +13,6 @@ double Nan() { return std::numeric_limits<double>::quiet_NaN(); }
 
 }  // namespace
 
-double PositionErrorNorm(const FrameRecord& f) {
-  return std::sqrt(f.error[0] * f.error[0] + f.error[1] * f.error[1] + f.error[2] * f.error[2]);
-}
-
 double AttitudeErrorAngleDeg(const FrameRecord& f) {
   const Eigen::Matrix3d R = aar_geometry::RotationFromRollPitchYaw(
       {aar_geometry::DegToRad(f.error[3]), aar_geometry::DegToRad(f.error[4]),

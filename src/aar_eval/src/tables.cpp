@@ -150,13 +150,16 @@ std::string MarkdownRegionTable(const std::map<std::string, std::vector<FrameRec
   return s.str();
 }
 
+double PositionErrorNorm(const FrameRecord& f) {
+  return std::sqrt(f.error[0] * f.error[0] + f.error[1] * f.error[1] + f.error[2] * f.error[2]);
+}
+
 WrongLock LongestWrongLock(const std::vector<FrameRecord>& frames, double max_position_m,
                            double max_angle_deg) {
   auto wrong = [&](const FrameRecord& f) {
     if (f.region != aar_geometry::Region::kB && f.region != aar_geometry::Region::kC) return false;
     if (!f.estimated) return false;
-    const double position =
-        std::sqrt(f.error[0] * f.error[0] + f.error[1] * f.error[1] + f.error[2] * f.error[2]);
+    const double position = PositionErrorNorm(f);
     const double angle =
         std::max({std::abs(f.error[3]), std::abs(f.error[4]), std::abs(f.error[5])});
     return position > max_position_m || angle > max_angle_deg;

@@ -28,16 +28,14 @@ struct Estimate {
   // tanker frame; zero when not estimated.
   Eigen::Matrix<double, 6, 6> covariance = Eigen::Matrix<double, 6, 6>::Zero();
   std::string track = "off";  // the tracker's outcome by name
-  // Integrity (aar_msgs/PoseEstimate): the publisher's alert (do not use the pose) and why, the
-  // protection levels that bound this pose's error but with probability `integrity_risk`, and
-  // the alert limits of its phase. Levels and limits of 0: the publisher gives none.
+  // Integrity (aar_msgs/PoseEstimate): the publisher's alert (do not use the pose), the
+  // protection levels that bound this pose's error at the publisher's integrity risk, and the
+  // alert limits of its phase. Levels and limits of 0: the publisher gives none.
   bool alert = false;
-  std::string integrity_reason;
   double protection_level_position = 0.0;  // [m] bound on the 3D position error
   double protection_level_attitude = 0.0;  // [deg] bound on the rotation angle of the error
   double alert_limit_position = 0.0;       // [m]
   double alert_limit_attitude = 0.0;       // [deg]
-  double integrity_risk = 0.0;             // per frame
 };
 
 // One frame whose outcome is final, in stamp order.

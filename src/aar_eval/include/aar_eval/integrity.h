@@ -12,8 +12,6 @@ namespace aar_eval {
 // covariance puts 0.1 % of the frames' NEES beyond it.
 constexpr double kNees999Bound6Dof = 22.458;
 
-// |x, y, z| of a frame's own position error [m].
-double PositionErrorNorm(const FrameRecord& frame);
 // The rotation angle [deg, 0 to 180] of the frame's own attitude error, the rotation of its roll,
 // pitch and yaw error (intrinsic z-y'-x'').
 double AttitudeErrorAngleDeg(const FrameRecord& frame);

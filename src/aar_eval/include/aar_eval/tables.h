@@ -44,6 +44,9 @@ struct FrameRecord {
   bool alert = false;
 };
 
+// |x, y, z| of a frame's own position error [m].
+double PositionErrorNorm(const FrameRecord& frame);
+
 // Which error a table is over: each frame's own estimate (misses left out), or what a live
 // system publishes under "hold the last estimate" (only frames before the first estimate left
 // out).

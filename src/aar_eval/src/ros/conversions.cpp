@@ -17,12 +17,10 @@ Estimate ToEstimate(const aar_msgs::PoseEstimate& msg) {
                                        "missed", "lost",    "reset"};  // TRACK_* in order
   e.track = msg.track < sizeof(kTrack) / sizeof(kTrack[0]) ? kTrack[msg.track] : "?";
   e.alert = msg.integrity == aar_msgs::PoseEstimate::INTEGRITY_ALERT;
-  e.integrity_reason = msg.integrity_reason;
   e.protection_level_position = msg.protection_level_position;
   e.protection_level_attitude = msg.protection_level_attitude;
   e.alert_limit_position = msg.alert_limit_position;
   e.alert_limit_attitude = msg.alert_limit_attitude;
-  e.integrity_risk = msg.integrity_risk;
   return e;
 }
 
