@@ -21,6 +21,15 @@ double SigmaMax(const Eigen::Matrix3d& block) {
   return largest > 0.0 ? std::sqrt(largest) : 0.0;
 }
 
+// The levels of `covariance` with the factor k = overbound_factor * K(integrity_risk).
+ProtectionLevels Levels(const Matrix6d& covariance, double k, const IntegrityOptions& options) {
+  ProtectionLevels out;
+  out.position_m = k * SigmaMax(covariance.topLeftCorner<3, 3>()) + options.position_bias_m;
+  out.attitude_deg =
+      k * SigmaMax(covariance.bottomRightCorner<3, 3>()) * kRadToDeg + options.attitude_bias_deg;
+  return out;
+}
+
 }  // namespace
 
 void IntegrityOptions::Validate() const {
@@ -46,12 +55,8 @@ double ProtectionFactor(double risk, int dof) {
 
 ProtectionLevels ComputeProtectionLevels(const Matrix6d& covariance,
                                          const IntegrityOptions& options) {
-  const double k = options.overbound_factor * ProtectionFactor(options.integrity_risk);
-  ProtectionLevels out;
-  out.position_m = k * SigmaMax(covariance.topLeftCorner<3, 3>()) + options.position_bias_m;
-  out.attitude_deg =
-      k * SigmaMax(covariance.bottomRightCorner<3, 3>()) * kRadToDeg + options.attitude_bias_deg;
-  return out;
+  return Levels(covariance, options.overbound_factor * ProtectionFactor(options.integrity_risk),
+                options);
 }
 
 const AlertBand& BandOfRange(const std::vector<AlertBand>& bands, double range_m) {
@@ -62,6 +67,7 @@ const AlertBand& BandOfRange(const std::vector<AlertBand>& bands, double range_m
 
 IntegrityMonitor::IntegrityMonitor(const IntegrityOptions& options) : options_(options) {
   options_.Validate();
+  factor_ = options_.overbound_factor * ProtectionFactor(options_.integrity_risk);
 }
 
 std::string IntegrityMonitor::Confirm(const IntegrityInput& in) {
@@ -91,7 +97,7 @@ IntegrityResult IntegrityMonitor::Assess(const IntegrityInput& in) {
   out.confirmed = confirmed_;
   out.covariance = in.covariance;
   if (!unconfirmed.empty()) out.covariance += in.acquisition_covariance;
-  out.levels = ComputeProtectionLevels(out.covariance, options_);
+  out.levels = Levels(out.covariance, factor_, options_);
   out.risk = options_.integrity_risk;
   out.limits = BandOfRange(options_.bands, in.T_tanker_receiver.translation().norm());
   std::ostringstream s;

@@ -100,6 +100,7 @@ class IntegrityMonitor {
   std::string Confirm(const IntegrityInput& in);
 
   IntegrityOptions options_;
+  double factor_;  // overbound_factor * K(integrity_risk): a quantile, computed once
   int confirmed_ = 0;
 };
 
