@@ -61,6 +61,10 @@ def parser(kind):
     else:
         p.add_argument("--suite", default=None, help="number of approaches N" +
                        (" (default 4)" if kind == "realism" else ""))
+        p.add_argument("--receiver", default=None, help="c12 (default) or rq4, or a "
+                       "description's path: each approach ends at its contact position")
+        # Refused with its reason (plans._check_suite): a suite generates its own paths.
+        p.add_argument("--flight-path", default=None, help=argparse.SUPPRESS)
         p.add_argument("--seed", default=None, help="suite seed S: approach i uses S*1000+i "
                        "(default 1)")
         p.add_argument("--rate", default=None, help="[Hz] frames per second of path time "

@@ -14,7 +14,7 @@ from campaign.workspace import ROOT, Refused, absolute, tool, utc_stamp
 USAGE = {
     "run": "The main job: each experiment flown along one path in lockstep; writes\n"
            "DIR/report.md, per-frame CSVs, plots and the configuration used (default DIR:\n"
-           "results/<UTC time>). With --suite N: N seeded approaches (scripts/run --suite -h).",
+           "results/<UTC time>). With --suite N: N seeded approaches (scripts/run --suite N -h).",
     "suite": "N seeded approaches (aar_sim's generate_approach, seed S*1000+i: start offset,\n"
              "closure, wander and boom motion vary), each experiment on each, with sensor noise\n"
              "seeded per approach; writes DIR/suite.md (means over approaches with 95 %\n"
@@ -62,8 +62,8 @@ def _file(value, caller, flag):
     return path
 
 
-def _receiver(a):
-    """The receiver's description and its approach (run kind)."""
+def _description(a):
+    """The receiver --receiver names (default c12) and its description's path."""
     name = a.receiver or "c12"
     if name.endswith((".yaml", ".yml")) or "/" in name:
         description = absolute(name, a.caller)
@@ -72,6 +72,12 @@ def _receiver(a):
     if not os.path.isfile(description):
         raise Refused(f"--receiver: no receiver '{name}' ({description}; available: "
                       f"{','.join(_names('src/aar_description/models'))})")
+    return name, description
+
+
+def _receiver(a):
+    """The receiver's description and its approach (run kind)."""
+    name, description = _description(a)
     if a.flight_path:
         return name, description, _file(a.flight_path, a.caller, "flight path")
     stem = os.path.basename(description)[:-5]
@@ -98,6 +104,12 @@ def _check_run(a, f):
 
 
 def _check_suite(a, f):
+    if a.flight_path is not None:
+        raise Refused("--flight-path: a suite flies the approaches it generates (seeded by "
+                      "--seed, ending at --receiver's contact position); one path is scripts/run "
+                      "--flight-path FILE, without --suite")
+    # Without --receiver nothing names one: the runs and approaches are the C-12's as before.
+    f.receiver, f.description = _description(a) if a.receiver else (None, "")
     f.suite = int(_match(a.suite or ("4" if f.kind == "realism" else ""), r"[0-9]+", "--suite",
                          "a number of approaches of at least 1", low=1))
     f.seed = int(_match(a.seed or "1", r"[0-9]{1,12}", "--seed",
@@ -151,8 +163,9 @@ def check(kind, a):
     return f
 
 
-def _generate_approaches(unit_dir, suite, seed, rate):
-    """approaches/NN/flight_path.csv and approaches.csv; a failure stops before any run."""
+def _generate_approaches(unit_dir, suite, seed, rate, description=""):
+    """approaches/NN/flight_path.csv and approaches.csv, each ending at the contact position of
+    the receiver `description` (default the C-12); a failure stops before any run."""
     approaches = []
     with open(os.path.join(unit_dir, "approaches.csv"), "w") as out:
         out.write("approach,seed,elevation_deg,azimuth_deg,far_speed_mps,mid_speed_mps,"
@@ -162,8 +175,9 @@ def _generate_approaches(unit_dir, suite, seed, rate):
             folder = os.path.join(unit_dir, "approaches", name)
             os.makedirs(folder, exist_ok=True)
             path = os.path.join(folder, "flight_path.csv")
-            p = subprocess.run([tool("aar_sim", "generate_approach"), MODELS, path,
-                                str(approach_seed)], capture_output=True, text=True)
+            receiver = ["--receiver", description] if description else []
+            p = subprocess.run([tool("aar_sim", "generate_approach")] + receiver +
+                               [MODELS, path, str(approach_seed)], capture_output=True, text=True)
             line = next((s for s in p.stdout.splitlines() if s.startswith("approach: ")), None)
             if p.returncode != 0 or line is None:
                 raise Refused(f"approach {name} (seed {approach_seed}) failed to generate: "
@@ -195,11 +209,12 @@ def _create_run(f):
 
 def _create_suites(f):
     worlds = f.worlds if f.kind == "realism" else ["."]
-    command = (f"scripts/run --suite {f.suite} --seed {f.seed} --experiments "
+    receiver = f" --receiver {f.receiver}" if f.receiver else ""
+    command = (f"scripts/run --suite {f.suite} --seed {f.seed}{receiver} --experiments "
                f"{','.join(f.experiments)} --rate {f.rate:g} --noise {f.noise}"
                f"{' --sim-config ' + f.sim_config if f.sim_config else ''} --out {f.out}")
     if f.kind == "realism":
-        command = (f"scripts/realism --suite {f.suite} --seed {f.seed} --experiments "
+        command = (f"scripts/realism --suite {f.suite} --seed {f.seed}{receiver} --experiments "
                    f"{','.join(f.experiments)} --worlds {','.join(worlds)} --rate {f.rate:g} "
                    f"--noise {f.noise} --out {f.out}")
     runs = []
@@ -209,13 +224,17 @@ def _create_suites(f):
         if f.kind == "realism" and w != "ideal":
             sim_config = os.path.join(ROOT, "config/realism", w + ".yaml")
         os.makedirs(unit, exist_ok=True)
-        copy_configuration(unit, f.experiments, {"sim_config.yaml": sim_config})
-        write_provenance(unit, command, ([f"world: {w}"] if f.kind == "realism" else []) + [
+        copy_configuration(unit, f.experiments, {"sim_config.yaml": sim_config,
+                                                  "receiver.yaml": f.description})
+        write_provenance(unit, command, ([f"world: {w}"] if f.kind == "realism" else []) + (
+            [f"receiver: {f.description}"] if f.description else []) + [
             f"sensor noise: {f.noise} grey levels, seeded per approach (its seed)"])
-        for name, seed, path, frames in _generate_approaches(unit, f.suite, f.seed, f.rate):
+        for name, seed, path, frames in _generate_approaches(unit, f.suite, f.seed, f.rate,
+                                                             f.description):
             runs += [Run(key=os.path.normpath(os.path.join(w, "approaches", name, e)),
                          experiment=e, flight_path=path, frames=frames, rate=f"{f.rate:g}",
-                         noise=f.noise, noise_seed=str(seed), sim_config=sim_config)
+                         noise=f.noise, noise_seed=str(seed), sim_config=sim_config,
+                         receiver=f.description)
                      for e in f.experiments]
     return Campaign(f.kind, f.out, command, f.experiments, runs, worlds, {})
 

@@ -1,7 +1,9 @@
 // scripts/run --suite refuses bad arguments with a message naming them and a non-zero exit,
-// before anything is set up, built or flown (the campaign driver, scripts/campaign/, checks them).
+// before anything is set up, built or flown (the campaign driver, scripts/campaign/, checks them);
+// a suite with --receiver generates that receiver's approaches, gives it to its runs, records it.
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <string>
 
 #include "aar_testing/command.h"
@@ -28,12 +30,72 @@ TEST(SuiteScript, BadArgumentsAreNamedAndRefused) {
       {"--suite 2 --noise x", "--noise takes a sigma in grey levels (>= 0), not 'x'"},
       {"--suite 2 --sim-config /nonexistent.yaml",
        "--sim-config '/nonexistent.yaml' does not exist"},
+      {"--suite 2 --receiver nonesuch", "--receiver: no receiver 'nonesuch'"},
+      {"--suite 2 --flight-path /tmp/any.csv",
+       "--flight-path: a suite flies the approaches it generates"},
   };
   for (const auto& c : cases) {
     const auto r = Suite(c.args);
     EXPECT_EQ(r.status, 2) << c.args << ": " << r.output;
     EXPECT_NE(r.output.find(c.needle), std::string::npos) << c.args << ": " << r.output;
   }
+}
+
+std::string Read(const std::string& path) {
+  return aar_testing::RunCommand("cat '" + path + "'").output;
+}
+
+// A suite campaign created (arguments checked, approaches generated, configuration and provenance
+// written, campaign.json saved) as scripts/run --suite creates it, and not flown.
+aar_testing::CommandResult CreateSuite(const std::string& args, const std::string& out) {
+  const std::string root = aar_testing::WorkspaceRoot();
+  return aar_testing::RunCommand(
+      "rm -rf " + out + " && cd " + root +
+      " && /usr/bin/python3 -c 'import sys; sys.path.insert(0, " +
+      "\"scripts\"); from campaign import cli, plans; plans.create(plans.check(\"suite\", " +
+      "cli.parser(\"suite\").parse_args(sys.argv[1:])))' " + args + " --out " + out);
+}
+
+// --receiver on a suite: its approaches end at that receiver's contact position (other paths than
+// the C-12's for the same seed), each run is given it, and the campaign records it; without it the
+// suite is the C-12's as before (no receiver named, none copied).
+TEST(SuiteScript, AReceiverGivesItsApproachesToTheRunsAndIsRecorded) {
+  const std::string c12 = "/tmp/aar_suite_receiver_c12", rq4 = "/tmp/aar_suite_receiver_rq4";
+  const std::string args = "--suite 1 --seed 5 --experiments naive,dynamic";
+  auto r = CreateSuite(args, c12);
+  ASSERT_EQ(r.status, 0) << r.output;
+  r = CreateSuite(args + " --receiver rq4", rq4);
+  ASSERT_EQ(r.status, 0) << r.output;
+
+  // As the driver names it: the workspace's path without its ".." (os.path.normpath).
+  const std::string description =
+      std::filesystem::path(aar_testing::WorkspaceRoot() + "/src/aar_description/models/rq4.yaml")
+          .lexically_normal()
+          .string();
+  const std::string runs = Read(rq4 + "/campaign.json");
+  size_t named = 0;
+  for (size_t at = runs.find("\"receiver\": \"" + description + "\""); at != std::string::npos;
+       at = runs.find("\"receiver\": \"" + description + "\"", at + 1))
+    ++named;
+  EXPECT_EQ(named, 2u) << "each run flies rq4: " << runs;
+  EXPECT_NE(Read(c12 + "/campaign.json").find("\"receiver\": \"\""), std::string::npos)
+      << Read(c12 + "/campaign.json");
+
+  const std::string path = "/approaches/01/flight_path.csv";
+  ASSERT_NE(Read(rq4 + path).find("t,x,y,z"), std::string::npos) << Read(rq4 + path);
+  EXPECT_NE(Read(rq4 + path), Read(c12 + path)) << "rq4's approach is the C-12's";
+
+  const std::string provenance = Read(rq4 + "/run.txt");
+  EXPECT_NE(provenance.find("command: scripts/run --suite 1 --seed 5 --receiver rq4 --experiments"),
+            std::string::npos)
+      << provenance;
+  EXPECT_NE(provenance.find("receiver: " + description), std::string::npos) << provenance;
+  EXPECT_EQ(Read(rq4 + "/config/receiver.yaml"), Read(description));
+  const std::string c12_provenance = Read(c12 + "/run.txt");
+  EXPECT_EQ(c12_provenance.find("--receiver"), std::string::npos) << c12_provenance;
+  EXPECT_EQ(c12_provenance.find("\nreceiver: "), std::string::npos) << c12_provenance;
+  EXPECT_NE(aar_testing::RunCommand("test -e " + c12 + "/config/receiver.yaml").status, 0);
+  aar_testing::RunCommand("rm -rf " + c12 + " " + rq4);
 }
 
 // scripts/run --receiver: an unknown receiver, or one without an approach of its own and no
