@@ -7,6 +7,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "aar_registration/covariance_models.h"
+
 namespace aar_registration {
 
 void OutlineOptions::Validate() const {
@@ -411,12 +413,17 @@ void Registrar::Track(double stamp_s, const std::vector<Eigen::Vector3d>& sensed
   if (!now.valid) return;
   const auto a = AlignOutline(*frame, now.T_tanker_receiver, now.covariance, out);
   if (a.valid && a.quality >= o.min_quality) {
-    TrackUpdate u = tracker_.Update(stamp_s, a.T_tanker_receiver, MeasurementCovariance(a, o));
+    const Matrix6d R = MeasurementCovariance(a, o);
+    const Eigen::Isometry3d measured =
+        o.remove_prior
+            ? DataOnlyMeasurement(a.T_tanker_receiver, now.T_tanker_receiver, now.covariance, R)
+            : a.T_tanker_receiver;
+    TrackUpdate u = tracker_.Update(stamp_s, measured, R);
     if (u.outcome == TrackOutcome::kRejected && a.quality >= o.maneuver_quality) {
       // The images say, and fit well, that the receiver is not where the track predicts it: a
       // maneuver, followed (velocity uncertainty reset) instead of coasted through.
       tracker_.Maneuver(o.start_sigma_position, o.start_sigma_rotation);
-      u = tracker_.Update(stamp_s, a.T_tanker_receiver, MeasurementCovariance(a, o));
+      u = tracker_.Update(stamp_s, a.T_tanker_receiver, R);
       out.outline_note = "maneuver: the outline fits away from the prediction (" + Quality(a) + ")";
     }
     out.outline_fused = u.outcome == TrackOutcome::kAccepted;

@@ -3,7 +3,10 @@
 #include <algorithm>
 #include <cmath>
 
+#include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
+
+#include <aar_geometry/pose.h>
 
 #include "aar_registration/covariance_models.h"
 #include "aar_registration/registrar.h"
@@ -87,6 +90,22 @@ Matrix6d Registrar::PersistentCovariance(const Eigen::Isometry3d& T,
   if (!(z > 0.0)) return Matrix6d::Zero();
   return PersistentSizeCovariance(z, ray / z, options_.persistent_error.pixel_sigma,
                                   frame->left_camera.fx, receiver_size_m_);
+}
+
+Eigen::Isometry3d DataOnlyMeasurement(const Eigen::Isometry3d& posterior,
+                                      const Eigen::Isometry3d& prior, const Matrix6d& P,
+                                      const Matrix6d& R) {
+  const Eigen::AngleAxisd turn(posterior.linear() * prior.linear().transpose());
+  Vector6d delta;
+  delta << posterior.translation() - prior.translation(), turn.angle() * turn.axis();
+  const Eigen::LLT<Matrix6d> P_llt(P);  // fails unless P is positive definite
+  if (P_llt.info() != Eigen::Success) return posterior;
+  const Vector6d data = (P + R) * P_llt.solve(delta);
+  if (!data.allFinite()) return posterior;
+  Eigen::Isometry3d out = prior;
+  out.translation() += data.head<3>();
+  out.linear() = aar_geometry::RotationExp(data.tail<3>()) * prior.linear();
+  return out;
 }
 
 }  // namespace aar_registration

@@ -40,64 +40,79 @@ Tracker::Tracker(const TrackerOptions& options) : options_(options) {
   if (!(o.gate_chi2 > 0.0)) throw std::invalid_argument("tracker: gate_chi2 must be > 0");
   if (o.max_rejections < 1) throw std::invalid_argument("tracker: max_rejections must be >= 1");
   if (!(o.max_coast_s > 0.0)) throw std::invalid_argument("tracker: max_coast_s must be > 0");
+  if (!(o.maneuver_acceleration_sigma >= 0.0))
+    throw std::invalid_argument("tracker: maneuver_acceleration_sigma must be >= 0 (0: off)");
+  if (o.maneuver_acceleration_sigma > 0.0 &&
+      (!(o.maneuver_angular_acceleration_sigma > 0.0) || !(o.steady_sojourn_s > 0.0) ||
+       !(o.maneuver_sojourn_s > 0.0)))
+    throw std::invalid_argument(
+        "tracker: with maneuvers, maneuver_angular_acceleration_sigma and the sojourns must be > "
+        "0");
+}
+
+double Tracker::maneuver_probability() const {
+  return state_ == TrackState::kTracking && models_.size() > 1 ? models_[1].probability : 0.0;
 }
 
 void Tracker::Reset() {
   state_ = TrackState::kAcquiring;
   rejections_ = 0;
-  v_.setZero();
-  w_.setZero();
-  P_.setZero();
+  models_.clear();
+  track_ = imm::Model{};
 }
 
 TrackUpdate Tracker::Drop(const std::string& reason) { return Lose(TrackOutcome::kLost, reason); }
 
 void Tracker::Maneuver(double position_sigma, double rotation_sigma) {
   if (state_ != TrackState::kTracking) return;
-  P_.block<3, 3>(0, 0).diagonal().array() += position_sigma * position_sigma;
-  P_.block<3, 3>(3, 3).diagonal().array() += rotation_sigma * rotation_sigma;
-  P_.block<6, 6>(6, 0).setZero();
-  P_.block<6, 6>(0, 6).setZero();
-  P_.block<6, 6>(6, 6).setZero();
-  P_.block<3, 3>(6, 6).diagonal().setConstant(options_.initial_velocity_sigma *
-                                              options_.initial_velocity_sigma);
-  P_.block<3, 3>(9, 9).diagonal().setConstant(options_.initial_angular_velocity_sigma *
-                                              options_.initial_angular_velocity_sigma);
+  for (imm::Model& m : models_) {
+    m.P.block<3, 3>(0, 0).diagonal().array() += position_sigma * position_sigma;
+    m.P.block<3, 3>(3, 3).diagonal().array() += rotation_sigma * rotation_sigma;
+    m.P.block<6, 6>(6, 0).setZero();
+    m.P.block<6, 6>(0, 6).setZero();
+    m.P.block<6, 6>(6, 6).setZero();
+    m.P.block<3, 3>(6, 6).diagonal().setConstant(options_.initial_velocity_sigma *
+                                                 options_.initial_velocity_sigma);
+    m.P.block<3, 3>(9, 9).diagonal().setConstant(options_.initial_angular_velocity_sigma *
+                                                 options_.initial_angular_velocity_sigma);
+  }
+  track_ = imm::Combine(models_);
 }
 
-void Tracker::Propagate(double stamp_s, Eigen::Vector3d& p, Eigen::Matrix3d& R,
-                        Matrix12d& P) const {
+void Tracker::Propagate(double stamp_s, std::vector<imm::Model>& models) const {
   const double dt = stamp_s - stamp_s_;
   if (!(dt > 0.0)) return;
-  p = p + v_ * dt;
-  R = Orthonormal(aar_geometry::RotationExp(w_ * dt) * R);
-  Matrix12d F = Matrix12d::Identity();
-  F.block<3, 3>(0, 6).diagonal().setConstant(dt);
-  F.block<3, 3>(3, 9).diagonal().setConstant(dt);
-  // Continuous white acceleration integrated over dt (composes exactly over several steps).
-  Matrix12d Q = Matrix12d::Zero();
-  const double qa = options_.acceleration_sigma * options_.acceleration_sigma;
-  const double qw = options_.angular_acceleration_sigma * options_.angular_acceleration_sigma;
-  for (int i = 0; i < 3; ++i) {
-    for (const auto& [pose, rate, q] :
-         {std::make_tuple(i, 6 + i, qa), std::make_tuple(3 + i, 9 + i, qw)}) {
-      Q(pose, pose) = q * dt * dt * dt / 3.0;
-      Q(pose, rate) = Q(rate, pose) = q * dt * dt / 2.0;
-      Q(rate, rate) = q * dt;
+  imm::Mix(dt, models);
+  for (imm::Model& m : models) {
+    m.p = m.p + m.v * dt;
+    m.R = Orthonormal(aar_geometry::RotationExp(m.w * dt) * m.R);
+    imm::Matrix12d F = imm::Matrix12d::Identity();
+    F.block<3, 3>(0, 6).diagonal().setConstant(dt);
+    F.block<3, 3>(3, 9).diagonal().setConstant(dt);
+    // Continuous white acceleration integrated over dt (composes exactly over several steps).
+    imm::Matrix12d Q = imm::Matrix12d::Zero();
+    const double qa = m.acceleration_sigma * m.acceleration_sigma;
+    const double qw = m.angular_acceleration_sigma * m.angular_acceleration_sigma;
+    for (int i = 0; i < 3; ++i) {
+      for (const auto& [pose, rate, q] :
+           {std::make_tuple(i, 6 + i, qa), std::make_tuple(3 + i, 9 + i, qw)}) {
+        Q(pose, pose) = q * dt * dt * dt / 3.0;
+        Q(pose, rate) = Q(rate, pose) = q * dt * dt / 2.0;
+        Q(rate, rate) = q * dt;
+      }
     }
+    m.P = F * m.P * F.transpose() + Q;
   }
-  P = F * P * F.transpose() + Q;
 }
 
-TrackPrediction Tracker::State(const Eigen::Vector3d& p, const Eigen::Matrix3d& R,
-                               const Matrix12d& P) const {
+TrackPrediction Tracker::State(const imm::Model& m) const {
   TrackPrediction out;
   out.valid = state_ == TrackState::kTracking;
-  out.T_tanker_receiver.linear() = R;
-  out.T_tanker_receiver.translation() = p;
-  out.covariance = P.topLeftCorner<6, 6>();
-  out.velocity = v_;
-  out.angular_velocity = w_;
+  out.T_tanker_receiver.linear() = m.R;
+  out.T_tanker_receiver.translation() = m.p;
+  out.covariance = m.P.topLeftCorner<6, 6>();
+  out.velocity = m.v;
+  out.angular_velocity = m.w;
   return out;
 }
 
@@ -107,11 +122,9 @@ TrackPrediction Tracker::Predict(double stamp_s) const {
   if (state_ != TrackState::kTracking || stamp_s - last_accept_s_ > options_.max_coast_s ||
       (has_stamp_ && stamp_s < last_frame_s_))
     return {};
-  Eigen::Vector3d p = p_;
-  Eigen::Matrix3d R = R_;
-  Matrix12d P = P_;
-  Propagate(stamp_s, p, R, P);
-  return State(p, R, P);
+  std::vector<imm::Model> models = models_;
+  Propagate(stamp_s, models);
+  return State(imm::Combine(models));
 }
 
 TrackUpdate Tracker::Lose(TrackOutcome outcome, const std::string& reason) {
@@ -123,7 +136,8 @@ TrackUpdate Tracker::Lose(TrackOutcome outcome, const std::string& reason) {
 }
 
 TrackUpdate Tracker::Coast(double stamp_s, TrackOutcome outcome, const std::string& reason) {
-  Propagate(stamp_s, p_, R_, P_);
+  Propagate(stamp_s, models_);
+  track_ = imm::Combine(models_);
   stamp_s_ = std::max(stamp_s_, stamp_s);
   ++rejections_;
   if (rejections_ >= options_.max_rejections) {
@@ -196,16 +210,8 @@ TrackUpdate Tracker::Update(double stamp_s, const Eigen::Isometry3d& T_tanker_re
   const Eigen::Matrix3d R_m = Orthonormal(T_tanker_receiver.linear());
   if (state_ != TrackState::kTracking) {
     state_ = TrackState::kTracking;
-    p_ = p_m;
-    R_ = R_m;
-    v_.setZero();
-    w_.setZero();
-    P_.setZero();
-    P_.topLeftCorner<6, 6>() = covariance;
-    P_.block<3, 3>(6, 6).diagonal().setConstant(options_.initial_velocity_sigma *
-                                                options_.initial_velocity_sigma);
-    P_.block<3, 3>(9, 9).diagonal().setConstant(options_.initial_angular_velocity_sigma *
-                                                options_.initial_angular_velocity_sigma);
+    models_ = StartModels(p_m, R_m, covariance);
+    track_ = imm::Combine(models_);
     stamp_s_ = last_accept_s_ = stamp_s;
     rejections_ = 0;
     TrackUpdate u;
@@ -215,13 +221,12 @@ TrackUpdate Tracker::Update(double stamp_s, const Eigen::Isometry3d& T_tanker_re
     return u;
   }
 
-  Propagate(stamp_s, p_, R_, P_);
+  Propagate(stamp_s, models_);
+  track_ = imm::Combine(models_);
   stamp_s_ = std::max(stamp_s_, stamp_s);
   Vector6d y;
-  y << p_m - p_, Log(R_m * R_.transpose());
-  const Matrix6d S = P_.topLeftCorner<6, 6>() + covariance;
-  const Eigen::LDLT<Matrix6d> S_ldlt(S);
-  const double d2 = y.dot(S_ldlt.solve(y));
+  y << p_m - track_.p, Log(R_m * track_.R.transpose());
+  const double d2 = y.dot((track_.P.topLeftCorner<6, 6>() + covariance).ldlt().solve(y));
   if (!(d2 <= options_.gate_chi2)) {
     std::ostringstream s;
     s << "registration " << y.head<3>().norm() << " m and " << y.tail<3>().norm() * kRadToDeg
@@ -231,18 +236,12 @@ TrackUpdate Tracker::Update(double stamp_s, const Eigen::Isometry3d& T_tanker_re
     u.mahalanobis2 = d2;
     return u;
   }
-  // K = P H^T S^-1 with H = [I6 0]; Joseph form keeps P symmetric positive definite.
-  const Eigen::Matrix<double, 12, 6> K = S_ldlt.solve(P_.leftCols<6>().transpose()).transpose();
-  const Eigen::Matrix<double, 12, 1> dx = K * y;
-  p_ += dx.segment<3>(0);
-  R_ = Orthonormal(aar_geometry::RotationExp(dx.segment<3>(3)) * R_);
-  v_ += dx.segment<3>(6);
-  w_ += dx.segment<3>(9);
-  Matrix12d IKH = Matrix12d::Identity();
-  IKH.leftCols<6>() -= K;
-  P_ = IKH * P_ * IKH.transpose() + K * covariance * K.transpose();
-  P_ = 0.5 * (P_ + P_.transpose()).eval();
-  if (!P_.allFinite() || !p_.allFinite() || !R_.allFinite() || !v_.allFinite() || !w_.allFinite())
+  std::vector<double> log_likelihoods;
+  for (imm::Model& m : models_) log_likelihoods.push_back(UpdateModel(p_m, R_m, covariance, m));
+  imm::Weigh(log_likelihoods, models_);
+  track_ = imm::Combine(models_);
+  if (!track_.P.allFinite() || !track_.p.allFinite() || !track_.R.allFinite() ||
+      !track_.v.allFinite() || !track_.w.allFinite())
     return Lose(TrackOutcome::kLost, "filter diverged (state not finite)");
   rejections_ = 0;
   last_accept_s_ = stamp_s;
@@ -252,6 +251,51 @@ TrackUpdate Tracker::Update(double stamp_s, const Eigen::Isometry3d& T_tanker_re
   u.reason = restart;
   u.filtered = Current();
   return u;
+}
+
+std::vector<imm::Model> Tracker::StartModels(const Eigen::Vector3d& p, const Eigen::Matrix3d& R,
+                                             const Matrix6d& covariance) const {
+  const TrackerOptions& o = options_;
+  imm::Model m;
+  m.p = p;
+  m.R = R;
+  m.P.topLeftCorner<6, 6>() = covariance;
+  m.P.block<3, 3>(6, 6).diagonal().setConstant(o.initial_velocity_sigma * o.initial_velocity_sigma);
+  m.P.block<3, 3>(9, 9).diagonal().setConstant(o.initial_angular_velocity_sigma *
+                                               o.initial_angular_velocity_sigma);
+  m.acceleration_sigma = o.acceleration_sigma;
+  m.angular_acceleration_sigma = o.angular_acceleration_sigma;
+  if (!(o.maneuver_acceleration_sigma > 0.0)) return {m};
+  // Each model at its share of time in the chain's steady state.
+  const double total = o.steady_sojourn_s + o.maneuver_sojourn_s;
+  m.sojourn_s = o.steady_sojourn_s;
+  m.probability = o.steady_sojourn_s / total;
+  imm::Model maneuvering = m;
+  maneuvering.acceleration_sigma = o.maneuver_acceleration_sigma;
+  maneuvering.angular_acceleration_sigma = o.maneuver_angular_acceleration_sigma;
+  maneuvering.sojourn_s = o.maneuver_sojourn_s;
+  maneuvering.probability = o.maneuver_sojourn_s / total;
+  return {m, maneuvering};
+}
+
+double Tracker::UpdateModel(const Eigen::Vector3d& p_m, const Eigen::Matrix3d& R_m,
+                            const Matrix6d& covariance, imm::Model& m) {
+  Vector6d y;
+  y << p_m - m.p, Log(R_m * m.R.transpose());
+  const Matrix6d S = m.P.topLeftCorner<6, 6>() + covariance;
+  const Eigen::LDLT<Matrix6d> S_ldlt(S);
+  // K = P H^T S^-1 with H = [I6 0]; Joseph form keeps P symmetric positive definite.
+  const Eigen::Matrix<double, 12, 6> K = S_ldlt.solve(m.P.leftCols<6>().transpose()).transpose();
+  const imm::Vector12d dx = K * y;
+  m.p += dx.segment<3>(0);
+  m.R = Orthonormal(aar_geometry::RotationExp(dx.segment<3>(3)) * m.R);
+  m.v += dx.segment<3>(6);
+  m.w += dx.segment<3>(9);
+  imm::Matrix12d IKH = imm::Matrix12d::Identity();
+  IKH.leftCols<6>() -= K;
+  m.P = IKH * m.P * IKH.transpose() + K * covariance * K.transpose();
+  m.P = 0.5 * (m.P + m.P.transpose()).eval();
+  return -0.5 * (y.dot(S_ldlt.solve(y)) + S_ldlt.vectorD().array().abs().log().sum());
 }
 
 }  // namespace aar_registration

@@ -44,5 +44,37 @@ TEST(CovarianceModels, APersistentSizeErrorMovesTheRangeAndTurns) {
   EXPECT_TRUE(PersistentSizeCovariance(35.0, u, 0.0, 1108.0, 21.8).isZero());
 }
 
+// A prior (the track's prediction) and the images' own data, combined as the alignment does; the
+// measurement recovered from the combination is the data, in position and rotation, and an
+// identity prior with no data spread gives the posterior back when R is zero.
+TEST(CovarianceModels, TheDataIsRecoveredFromAPosteriorThatHoldsThePrior) {
+  Eigen::Isometry3d prior = Eigen::Isometry3d::Identity();
+  prior.translation() = Eigen::Vector3d(-130.0, 2.0, -25.0);
+  prior.linear() = Eigen::AngleAxisd(0.1, Eigen::Vector3d(0.2, 1.0, 0.3).normalized()).matrix();
+  Vector6d data;  // the data's offset from the prior: far in range, a little across, turned
+  data << 3.0, 0.4, -0.2, 0.01, -0.02, 0.015;
+  Matrix6d A = Matrix6d::Identity();
+  A(0, 1) = 0.3;
+  A(4, 3) = -0.2;
+  const Matrix6d P = A * Vector6d(0.3, 0.05, 0.05, 1e-4, 2e-4, 1e-4).asDiagonal() * A.transpose();
+  const Matrix6d R = Vector6d(4.0, 0.01, 0.02, 3e-4, 1e-4, 5e-4).asDiagonal();
+  // The posterior's offset from the prior: (P^-1 + R^-1)^-1 R^-1 data.
+  const Vector6d m = (P.inverse() + R.inverse()).ldlt().solve(R.inverse() * data);
+  EXPECT_LT(m(0), 0.3 * data(0)) << "the posterior stays near the prior in range";
+  Eigen::Isometry3d posterior = prior;
+  posterior.translation() += m.head<3>();
+  posterior.linear() =
+      Eigen::AngleAxisd(m.tail<3>().norm(), m.tail<3>().normalized()).matrix() * prior.linear();
+  const Eigen::Isometry3d got = DataOnlyMeasurement(posterior, prior, P, R);
+  EXPECT_LT((got.translation() - prior.translation() - data.head<3>()).norm(), 1e-9);
+  const Eigen::AngleAxisd turn(got.linear() * prior.linear().transpose());
+  EXPECT_LT((turn.angle() * turn.axis() - data.tail<3>()).norm(), 1e-9);
+  // No data information beyond the prior's means nothing to take out: R = 0 returns the posterior.
+  EXPECT_TRUE(
+      DataOnlyMeasurement(posterior, prior, P, Matrix6d::Zero()).isApprox(posterior, 1e-12));
+  // A prior that is no covariance leaves the posterior as it is.
+  EXPECT_TRUE(DataOnlyMeasurement(posterior, prior, Matrix6d::Zero(), R).isApprox(posterior));
+}
+
 }  // namespace
 }  // namespace aar_registration

@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -179,6 +180,75 @@ TEST(Tracker, AManeuverIsFollowedAndDropEndsTheTrack) {
   EXPECT_FALSE(tracker.Predict(46 * kDt).valid);
 }
 
+// A back-off along the line of sight at 10 Hz: the receiver closes at 6 m/s from 110 m and
+// backs off by 10 m over 6 s (a raised-cosine bump, peak acceleration 5.5 m/s^2), measured with
+// stereo's range noise along x (0.5 m) and 5 cm across. Returns the mean position error and
+// the frames whose position error lies beyond the covariance's chi2(3) 99.9 % bound (16.27),
+// over the maneuver and 1 s after it, and the mean error over the steady seconds before it.
+struct BackOff {
+  double maneuver_error = 0.0, steady_error = 0.0, peak_maneuver_probability = 0.0;
+  int beyond = 0, frames = 0;
+};
+
+BackOff FlyBackOff(const TrackerOptions& options) {
+  Tracker tracker(options);
+  std::mt19937_64 rng(11);
+  std::normal_distribution<double> n(0.0, 1.0);
+  Matrix6d cov = Matrix6d::Zero();
+  cov.diagonal() << 0.25, 0.0025, 0.0025, Eigen::Vector3d::Constant(std::pow(0.3 * kDeg, 2));
+  const double start = 8.0, length = 6.0, size = 10.0, dt = 0.1;
+  BackOff out;
+  int steady = 0;
+  for (int k = 0; k <= 160; ++k) {
+    const double t = k * dt;
+    Eigen::Isometry3d truth = Eigen::Isometry3d::Identity();
+    truth.translation() = Eigen::Vector3d(-110.0 + 6.0 * t, 0.0, -12.0);
+    if (t > start && t < start + length)
+      truth.translation().x() -= 0.5 * size * (1.0 - std::cos(2.0 * M_PI * (t - start) / length));
+    Eigen::Isometry3d measured = truth;
+    measured.translation() += Eigen::Vector3d(0.5 * n(rng), 0.05 * n(rng), 0.05 * n(rng));
+    const TrackUpdate u = tracker.Update(t, measured, cov);
+    if (u.outcome != TrackOutcome::kAccepted) continue;
+    const Eigen::Vector3d e = u.filtered.T_tanker_receiver.translation() - truth.translation();
+    out.peak_maneuver_probability =
+        std::max(out.peak_maneuver_probability, tracker.maneuver_probability());
+    if (t > 3.0 && t <= start) {
+      out.steady_error += e.norm();
+      ++steady;
+    } else if (t > start && t <= start + length + 1.0) {
+      out.maneuver_error += e.norm();
+      out.beyond += e.dot(u.filtered.covariance.topLeftCorner<3, 3>().ldlt().solve(e)) > 16.27;
+      ++out.frames;
+    }
+  }
+  out.maneuver_error /= std::max(1, out.frames);
+  out.steady_error /= std::max(1, steady);
+  return out;
+}
+
+// The interacting multiple model (maneuver_acceleration_sigma > 0) follows a back-off that the
+// steady model alone lags and misjudges: smaller errors through it, covered by its covariance,
+// with steady flight's error about the same. Measured: one model 0.50 m through the back-off
+// with 27 of 71 frames beyond the bound, two models 0.27 m and 0 frames; steady 0.18 m and
+// 0.19 m.
+TEST(Tracker, TwoModelsFollowABackOffThatOneModelLags) {
+  TrackerOptions one;
+  TrackerOptions two;
+  two.maneuver_acceleration_sigma = 3.0;
+  const BackOff a = FlyBackOff(one), b = FlyBackOff(two);
+  std::printf(
+      "[ tracker ] back-off: one model %.3f m, %d of %d beyond; two %.3f m, %d beyond "
+      "(maneuver probability up to %.2f); steady %.3f m and %.3f m\n",
+      a.maneuver_error, a.beyond, a.frames, b.maneuver_error, b.beyond, b.peak_maneuver_probability,
+      a.steady_error, b.steady_error);
+  ASSERT_GT(b.frames, 60);
+  EXPECT_LT(b.maneuver_error, 0.8 * a.maneuver_error);
+  EXPECT_LT(b.beyond, a.beyond);
+  EXPECT_GT(b.peak_maneuver_probability, 0.5);
+  EXPECT_LT(b.steady_error, 1.3 * a.steady_error);
+  EXPECT_EQ(a.peak_maneuver_probability, 0.0) << "one model has no maneuvering model";
+}
+
 TEST(Tracker, CoastingTooLongDropsTheTrack) {
   TrackerOptions options;
   options.max_rejections = 100;
@@ -234,6 +304,12 @@ TEST(Tracker, RefusesOptionsThatCannotWork) {
   EXPECT_THROW(Tracker{o}, std::invalid_argument);
   o = TrackerOptions{};
   o.acceleration_sigma = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_THROW(Tracker{o}, std::invalid_argument);
+  o = TrackerOptions{};
+  o.maneuver_acceleration_sigma = -1.0;
+  EXPECT_THROW(Tracker{o}, std::invalid_argument);
+  o.maneuver_acceleration_sigma = 3.0;
+  o.maneuver_sojourn_s = 0.0;
   EXPECT_THROW(Tracker{o}, std::invalid_argument);
 }
 

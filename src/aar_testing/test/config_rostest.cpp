@@ -239,6 +239,11 @@ TEST(Config, RegistrationYamlHoldsTheStructsDefaults) {
   EXPECT_EQ(y.tracker.gate_chi2, b.tracker.gate_chi2);
   EXPECT_EQ(y.tracker.max_rejections, b.tracker.max_rejections);
   EXPECT_EQ(y.tracker.max_coast_s, b.tracker.max_coast_s);
+  EXPECT_EQ(y.tracker.maneuver_acceleration_sigma, b.tracker.maneuver_acceleration_sigma);
+  EXPECT_EQ(y.tracker.maneuver_angular_acceleration_sigma,
+            b.tracker.maneuver_angular_acceleration_sigma);
+  EXPECT_EQ(y.tracker.steady_sojourn_s, b.tracker.steady_sojourn_s);
+  EXPECT_EQ(y.tracker.maneuver_sojourn_s, b.tracker.maneuver_sojourn_s);
   const auto &yo = y.outline, &bo = b.outline;
   EXPECT_EQ(yo.enabled, bo.enabled);
   EXPECT_EQ(yo.min_quality, bo.min_quality);
@@ -249,6 +254,7 @@ TEST(Config, RegistrationYamlHoldsTheStructsDefaults) {
   EXPECT_EQ(yo.start_sigma_rotation, bo.start_sigma_rotation);
   EXPECT_EQ(yo.disparity_sigma, bo.disparity_sigma);
   EXPECT_EQ(yo.disparity_rotation, bo.disparity_rotation);
+  EXPECT_EQ(yo.remove_prior, bo.remove_prior);
   EXPECT_EQ(yo.image_start, bo.image_start);
   EXPECT_EQ(yo.image_start_quality, bo.image_start_quality);
   EXPECT_EQ(yo.acquisition.min_range, bo.acquisition.min_range);
@@ -517,13 +523,17 @@ TEST(Config, FlightHoldsTrackingOutlinesSettings) {
                       no_boom = tree("flight_no_boom");
   EXPECT_TRUE(static_cast<bool>(flight["registration"]["outline_disparity_rotation"]));
   EXPECT_EQ(static_cast<double>(flight["registration"]["persistent_pixel_sigma"]), 0.2);
+  EXPECT_TRUE(static_cast<bool>(flight["registration"]["outline_remove_prior"]));
+  // The keys flight adds to tracking_outline for its integrity (docs/INTEGRITY.md).
+  const std::set<std::string> integrity = {"outline_disparity_rotation", "persistent_pixel_sigma",
+                                           "outline_remove_prior"};
   for (auto& [ns, keys] : flight) {
     if (ns != "registration") {
       EXPECT_TRUE(keys.toXml() == outline[ns].toXml()) << ns << ": flight differs";
       continue;
     }
     for (auto& [key, value] : keys) {
-      if (key == "outline_disparity_rotation" || key == "persistent_pixel_sigma") continue;
+      if (integrity.count(key)) continue;
       EXPECT_TRUE(outline[ns].hasMember(key) && value.toXml() == outline[ns][key].toXml())
           << key << ": flight differs from tracking_outline";
     }
@@ -595,11 +605,10 @@ TEST(Config, StereoRaysAndDepthMarginOffByDefaultBadValuesRefused) {
 // max_coast was refused as "max_coast_s", the C++ field's name, which no file has).
 TEST(Config, TrackerKeysAreRefusedUnderTheirYamlNames) {
   const std::vector<std::pair<std::string, double>> bad_values = {
-      {"max_coast", -1.0},
-      {"gate_chi2", 0.0},
-      {"acceleration_sigma", -1.0},
-      {"initial_angular_velocity_sigma", 0.0},
-      {"max_rejections", 0.0}};
+      {"max_coast", -1.0},          {"gate_chi2", 0.0},
+      {"acceleration_sigma", -1.0}, {"initial_angular_velocity_sigma", 0.0},
+      {"max_rejections", 0.0},      {"maneuver_acceleration_sigma", -1.0},
+      {"maneuver_sojourn", 0.0},    {"steady_sojourn", -2.0}};
   for (const auto& [key, value] : bad_values) {
     ros::NodeHandle bad("/registration_issue31_bad_" + key);
     if (key == "max_rejections") {

@@ -3,6 +3,7 @@
 #include <vector>
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 
 #include "aar_registration/types.h"
 
@@ -22,5 +23,15 @@ Eigen::Matrix3d RangeNoiseRotation(const std::vector<Eigen::Vector3d>& points,
 // by Z^2 sigma_px / (fx W) along u, a turn of Z sigma_px / (fx W) about every axis.
 Matrix6d PersistentSizeCovariance(double range_m, const Eigen::Vector3d& u, double sigma_px,
                                   double fx, double size_m);
+
+// The measurement that a posterior was made of. `posterior` combines a prior at `prior` [m, left-
+// multiplied rotation; tanker frame] with covariance P and data of covariance R (the data's
+// information alone inverted): in the tangent space at the prior, posterior = (P^-1 + R^-1)^-1
+// (P^-1 prior + R^-1 data), so data = prior + (P + R) P^-1 (posterior - prior). The data is what a
+// filter whose prediction is that prior may fuse with covariance R without counting the prior
+// twice (exact for linear models; an alignment stopped short of its optimum is taken as there).
+Eigen::Isometry3d DataOnlyMeasurement(const Eigen::Isometry3d& posterior,
+                                      const Eigen::Isometry3d& prior, const Matrix6d& P,
+                                      const Matrix6d& R);
 
 }  // namespace aar_registration

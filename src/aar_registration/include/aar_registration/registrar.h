@@ -81,6 +81,11 @@ struct OutlineOptions {
   // measurement covariance: directions the outline does not see get no weight.
   double information_floor_position = 1e-4;
   double information_floor_rotation = 1e-2;
+  // The alignment from the track's prediction is the prediction's prior and the images' data
+  // combined (its pose is the posterior's); fused as it is, the filter counts that prior twice,
+  // lags a maneuver and believes itself. With this, the pose fused is the images' own (the
+  // prior taken out, covariance_models.h DataOnlyMeasurement).
+  bool remove_prior = false;
 
   void Validate() const;  // throws std::invalid_argument naming the field
 };

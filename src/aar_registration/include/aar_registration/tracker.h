@@ -1,10 +1,12 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include "aar_registration/imm.h"
 #include "aar_registration/types.h"
 
 namespace aar_registration {
@@ -12,6 +14,11 @@ namespace aar_registration {
 // The receiver's motion relative to the tanker as a constant-velocity model over SE(3), filtered
 // by an error-state Kalman filter. Pose errors are [position (tanker frame, m), rotation (tanker
 // frame, rad)] with the rotation error left-multiplied: R_true = Exp(dtheta) * R_estimate.
+// With maneuver_acceleration_sigma > 0, an interacting-multiple-model filter (imm.h): the steady
+// model beside a maneuvering one with that white acceleration, mixed every frame and weighed by
+// how well each predicted the measurements; the published state and covariance are their
+// mixture, so that a maneuver's first frames widen the covariance (and the protection levels)
+// as the maneuvering model gains weight, and the velocity follows within a few frames.
 struct TrackerOptions {
   // Process noise: white acceleration, per axis. A receiver closing on a tanker changes its
   // closure rate by tenths of a m/s per second and its attitude rate by about a degree per
@@ -30,6 +37,14 @@ struct TrackerOptions {
   int max_rejections = 5;
   // A prediction further than this past the last accepted registration is not trusted [s].
   double max_coast_s = 1.0;
+  // Maneuvers (ours): the maneuvering model's white acceleration; 0: one model (the filter
+  // above alone, as the thesis's experiments and tracking* fly).
+  double maneuver_acceleration_sigma = 0.0;          // [m/s^2]
+  double maneuver_angular_acceleration_sigma = 0.1;  // [rad/s^2]
+  // Mean time in each model before a switch: the Markov chain's rates (per second, so that the
+  // filter is the same at any frame rate).
+  double steady_sojourn_s = 20.0;   // [s]
+  double maneuver_sojourn_s = 3.0;  // [s]
 };
 
 enum class TrackState {
@@ -72,6 +87,8 @@ class Tracker {
 
   TrackState state() const { return state_; }
   int rejections() const { return rejections_; }
+  // The maneuvering model's probability (0 with one model or while acquiring).
+  double maneuver_probability() const;
 
   // The pose predicted at `stamp_s`, with its covariance; invalid while acquiring, past
   // max_coast_s and before the last frame's stamp. The filter is not changed.
@@ -96,14 +113,18 @@ class Tracker {
   void Maneuver(double position_sigma, double rotation_sigma);
 
  private:
-  using Matrix12d = Eigen::Matrix<double, 12, 12>;
-  // Moves the state and covariance to `stamp_s` (no-op for dt <= 0).
-  void Propagate(double stamp_s, Eigen::Vector3d& p, Eigen::Matrix3d& R, Matrix12d& P) const;
+  // Mixes the models and moves each to `stamp_s` (no-op for dt <= 0).
+  void Propagate(double stamp_s, std::vector<imm::Model>& models) const;
+  // One model's Kalman update; returns its measurement's log-likelihood (up to a constant).
+  static double UpdateModel(const Eigen::Vector3d& p_m, const Eigen::Matrix3d& R_m,
+                            const Matrix6d& covariance, imm::Model& m);
+  // The models at a start: the measurement, no velocity, the start's velocity sigmas.
+  std::vector<imm::Model> StartModels(const Eigen::Vector3d& p, const Eigen::Matrix3d& R,
+                                      const Matrix6d& covariance) const;
   TrackUpdate Coast(double stamp_s, TrackOutcome outcome, const std::string& reason);
   TrackUpdate Lose(TrackOutcome outcome, const std::string& reason);
-  TrackPrediction Current() const { return State(p_, R_, P_); }
-  TrackPrediction State(const Eigen::Vector3d& p, const Eigen::Matrix3d& R,
-                        const Matrix12d& P) const;
+  TrackPrediction Current() const { return State(track_); }
+  TrackPrediction State(const imm::Model& m) const;
   // Loses the track when the stamp went back; otherwise notes the frame. True: reset.
   bool CheckStamp(double stamp_s, TrackUpdate* update);
   TrackUpdate NoRegistration(double stamp_s, TrackOutcome outcome, const std::string& reason);
@@ -115,11 +136,8 @@ class Tracker {
   bool has_stamp_ = false;  // any frame seen (for the backwards-stamp check)
   double last_frame_s_ = 0.0;
   int rejections_ = 0;
-  Eigen::Vector3d p_ = Eigen::Vector3d::Zero();  // [m] receiver origin, tanker frame
-  Eigen::Matrix3d R_ = Eigen::Matrix3d::Identity();
-  Eigen::Vector3d v_ = Eigen::Vector3d::Zero();  // [m/s] tanker frame
-  Eigen::Vector3d w_ = Eigen::Vector3d::Zero();  // [rad/s] tanker frame
-  Matrix12d P_ = Matrix12d::Zero();              // error state: dp, dtheta, dv, dw
+  std::vector<imm::Model> models_;  // steady, then (with maneuvers) maneuvering
+  imm::Model track_;                // their mixture: what the tracker publishes
 };
 
 }  // namespace aar_registration

@@ -84,6 +84,14 @@ TrackerOptions LoadTrackerOptions(aar_ros_common::ParamReader& params, TrackerOp
   t.max_rejections = params.Get("max_rejections", t.max_rejections);
   params.Check(t.max_rejections >= 1, "max_rejections", "must be >= 1");
   t.max_coast_s = params.GetPositive("max_coast", t.max_coast_s);
+  t.maneuver_acceleration_sigma =
+      params.Get("maneuver_acceleration_sigma", t.maneuver_acceleration_sigma);
+  params.Check(t.maneuver_acceleration_sigma >= 0.0, "maneuver_acceleration_sigma",
+               "must be >= 0 (0: one model, no maneuvers)");
+  t.maneuver_angular_acceleration_sigma = params.GetPositive("maneuver_angular_acceleration_sigma",
+                                                             t.maneuver_angular_acceleration_sigma);
+  t.steady_sojourn_s = params.GetPositive("steady_sojourn", t.steady_sojourn_s);
+  t.maneuver_sojourn_s = params.GetPositive("maneuver_sojourn", t.maneuver_sojourn_s);
   return t;
 }
 
@@ -99,6 +107,7 @@ OutlineOptions LoadOutlineOptions(aar_ros_common::ParamReader& params, OutlineOp
       "outline_start_sigma_rotation_deg", aar_geometry::RadToDeg(outline.start_sigma_rotation)));
   outline.disparity_sigma = params.Get("outline_disparity_sigma", outline.disparity_sigma);
   outline.disparity_rotation = params.Get("outline_disparity_rotation", outline.disparity_rotation);
+  outline.remove_prior = params.Get("outline_remove_prior", outline.remove_prior);
   outline.image_start = params.Get("outline_image_start", outline.image_start);
   outline.image_start_quality =
       params.Get("outline_image_start_quality", outline.image_start_quality);
