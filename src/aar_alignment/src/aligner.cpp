@@ -373,6 +373,7 @@ void AlignmentOptions::Validate() const {
     fail("step_window must be even, in [2, line_samples]");
   if (contour_points < 8) fail("contour_points must be at least 8");
   if (mask_size < 32) fail("mask_size must be at least 32");
+  if (!(mask_max_scale > 0.0)) fail("mask_max_scale must be > 0");
   if (histogram_bins < 2 || histogram_bins > 256) fail("histogram_bins must lie in [2, 256]");
   if (!(step_amplitude > 0.0 && step_amplitude < 0.5)) fail("step_amplitude must lie in (0, 0.5)");
   if (!(step_slope > 0.0)) fail("step_slope must be positive");
@@ -426,8 +427,8 @@ class OutlineAligner::Run {
   bool Outline() {
     size_t points = 0;
     for (int i = 0; i < 2; ++i) {
-      contours_[i] =
-          model_.Contour(*views_[i].camera, Pose(), o_.contour_points, profile_half_, o_.mask_size);
+      contours_[i] = model_.Contour(*views_[i].camera, Pose(), o_.contour_points, profile_half_,
+                                    o_.mask_size, o_.mask_max_scale);
       points += contours_[i].size();
       expected_[i].clear();
       for (const ContourPoint& cp : contours_[i])

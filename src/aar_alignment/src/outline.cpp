@@ -12,8 +12,7 @@ namespace aar_alignment {
 namespace {
 
 constexpr double kMinDepth = 0.1;  // [m] vertices nearer the camera's plane: no outline
-constexpr double kMaxMaskScale = 4.0;
-constexpr int kOversample = 3;  // edge samples per wanted outline point (most are inside)
+constexpr int kOversample = 3;     // edge samples per wanted outline point (most are inside)
 
 using Mask = SilhouetteMask;
 
@@ -142,14 +141,14 @@ OutlineModel::OutlineModel(const aar_geometry::TriangleMesh& receiver) {
 
 std::vector<ContourPoint> OutlineModel::Contour(const PinholeCamera& camera,
                                                 const Eigen::Isometry3d& T_tanker_receiver,
-                                                int count, int profile_half_length,
-                                                int mask_size) const {
+                                                int count, int profile_half_length, int mask_size,
+                                                double mask_max_scale) const {
   const Eigen::Isometry3d T_optical_body = camera.T_tanker_optical.inverse() * T_tanker_receiver;
   std::vector<Eigen::Vector3d> y;
   std::vector<Eigen::Vector2d> u;
   if (!Project(camera, T_tanker_receiver, y, u)) return {};
   const std::vector<char> front = Facing(y);
-  const Mask mask = DrawMask(mesh_, front, u, camera, mask_size, kMaxMaskScale);
+  const Mask mask = DrawMask(mesh_, front, u, camera, mask_size, mask_max_scale);
   if (mask.image.empty() || count <= 0) return {};
 
   std::vector<const MeshEdge*> silhouette;

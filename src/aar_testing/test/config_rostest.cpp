@@ -262,6 +262,8 @@ TEST(Config, RegistrationYamlHoldsTheStructsDefaults) {
   EXPECT_EQ(yo.acquisition.range_step, bo.acquisition.range_step);
   EXPECT_EQ(yo.acquisition.min_visible, bo.acquisition.min_visible);
   EXPECT_EQ(yo.alignment.contour_points, bo.alignment.contour_points);
+  EXPECT_EQ(yo.alignment.mask_size, bo.alignment.mask_size);
+  EXPECT_EQ(yo.alignment.mask_max_scale, bo.alignment.mask_max_scale);
   EXPECT_EQ(yo.alignment.line_model, bo.alignment.line_model);
   EXPECT_EQ(yo.alignment.search_radius_px, bo.alignment.search_radius_px);
   EXPECT_EQ(yo.alignment.covariance_scale, bo.alignment.covariance_scale);
@@ -524,9 +526,12 @@ TEST(Config, FlightHoldsTrackingOutlinesSettings) {
   EXPECT_TRUE(static_cast<bool>(flight["registration"]["outline_disparity_rotation"]));
   EXPECT_EQ(static_cast<double>(flight["registration"]["persistent_pixel_sigma"]), 0.2);
   EXPECT_TRUE(static_cast<bool>(flight["registration"]["outline_remove_prior"]));
-  // The keys flight adds to tracking_outline for its integrity (docs/INTEGRITY.md).
+  EXPECT_EQ(static_cast<int>(flight["registration"]["outline_mask_size"]), 1408);
+  EXPECT_EQ(static_cast<double>(flight["registration"]["outline_mask_max_scale"]), 1.0);
+  // The keys flight sets beyond tracking_outline's, for its integrity (docs/INTEGRITY.md).
   const std::set<std::string> integrity = {"outline_disparity_rotation", "persistent_pixel_sigma",
-                                           "outline_remove_prior"};
+                                           "outline_remove_prior", "outline_mask_size",
+                                           "outline_mask_max_scale"};
   for (auto& [ns, keys] : flight) {
     if (ns != "registration") {
       EXPECT_TRUE(keys.toXml() == outline[ns].toXml()) << ns << ": flight differs";
@@ -670,6 +675,8 @@ TEST(Config, OutlineOffByDefaultBadValuesRefused) {
       {"outline_start_sigma_position", 0.0},
       {"outline_disparity_sigma", -1.0},
       {"outline_contour_points", 4},
+      {"outline_mask_size", 16},
+      {"outline_mask_max_scale", 0.0},
       {"outline_covariance_scale", 0.0},
       {"outline_search_radius", -1.0},
       {"outline_start_candidates", 0},
@@ -683,7 +690,7 @@ TEST(Config, OutlineOffByDefaultBadValuesRefused) {
     bad.setParam("track", true);
     bad.setParam("outline", true);
     if (key == "outline_max_poor_frames" || key == "outline_contour_points" ||
-        key == "outline_start_candidates")
+        key == "outline_mask_size" || key == "outline_start_candidates")
       bad.setParam(key, static_cast<int>(value));
     else
       bad.setParam(key, value);

@@ -46,9 +46,10 @@ struct AlignmentOptions {
   // Samples around each hypothesis of the outline's place that judge it (SRT3D's function
   // length): line_samples - step_window + 1 hypotheses, the central window gives the statistics.
   int step_window = 8;
-  int contour_points = 200;  // lines per camera, spread evenly along the outline
-  int mask_size = 320;       // [px] the outline's mask resolution (OutlineModel)
-  int histogram_bins = 32;   // grey-level bins of the foreground and background statistics
+  int contour_points = 200;     // lines per camera, spread evenly along the outline
+  int mask_size = 320;          // [px] the outline's mask resolution (OutlineModel)
+  double mask_max_scale = 4.0;  // at most this many mask pixels per image pixel
+  int histogram_bins = 32;      // grey-level bins of the foreground and background statistics
   LineModel line_model = LineModel::kContrast;
   // The expected image along a line: the projected mesh's profile averaged over slope x scale px
   // either side, as probabilities 1/2 -+ amplitude (after SRT3D's smoothed step).

@@ -60,9 +60,12 @@ class OutlineModel {
   // T_tanker_receiver seen by `camera`, each with its profile `profile_half_length` [px] either
   // side. Points outside the image are kept (the caller's lines see nothing there). Empty when
   // any vertex is behind or within 0.1 m of the camera's plane.
+  // The mask is about `mask_size` pixels across, at most `mask_max_scale` mask pixels per image
+  // pixel.
   std::vector<ContourPoint> Contour(const PinholeCamera& camera,
                                     const Eigen::Isometry3d& T_tanker_receiver, int count,
-                                    int profile_half_length = 0, int mask_size = 320) const;
+                                    int profile_half_length = 0, int mask_size = 320,
+                                    double mask_max_scale = 4.0) const;
 
   // The receiver at T_tanker_receiver seen by `camera` as a mask about `size` pixels across (its
   // part within 64 px of the image), at most `max_scale` mask pixels per image pixel. Empty when

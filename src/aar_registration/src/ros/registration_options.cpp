@@ -118,6 +118,8 @@ OutlineOptions LoadOutlineOptions(aar_ros_common::ParamReader& params, OutlineOp
   acquisition.min_visible = params.Get("outline_image_start_min_visible", acquisition.min_visible);
   aar_alignment::AlignmentOptions& a = outline.alignment;
   a.contour_points = params.Get("outline_contour_points", a.contour_points);
+  a.mask_size = params.Get("outline_mask_size", a.mask_size);
+  a.mask_max_scale = params.GetPositive("outline_mask_max_scale", a.mask_max_scale);
   a.line_model =
       params.GetChoice<aar_alignment::LineModel>("outline_line_model", "contrast",
                                                  {{"contrast", aar_alignment::LineModel::kContrast},
@@ -145,6 +147,7 @@ OutlineOptions LoadOutlineOptions(aar_ros_common::ParamReader& params, OutlineOp
   params.Check(!outline.image_start || outline.enabled, "outline_image_start",
                "needs outline: true");
   params.Check(a.contour_points >= 8, "outline_contour_points", "must be >= 8");
+  params.Check(a.mask_size >= 32, "outline_mask_size", "must be >= 32 [px]");
   params.Check(a.search_radius_px >= 0.0, "outline_search_radius", "must be >= 0");
   params.Check(a.covariance_scale > 0.0, "outline_covariance_scale", "must be > 0");
   return outline;
