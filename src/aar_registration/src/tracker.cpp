@@ -23,6 +23,15 @@ Eigen::Matrix3d Orthonormal(const Eigen::Matrix3d& R) {
 
 constexpr double kRadToDeg = 180.0 / M_PI;
 
+// The rates' block of a new track (or one whose receiver maneuvered): the start's velocity
+// sigmas, uncorrelated with anything.
+void SetStartRates(const TrackerOptions& o, imm::Matrix12d& P) {
+  P.block<6, 6>(6, 6).setZero();
+  P.block<3, 3>(6, 6).diagonal().setConstant(o.initial_velocity_sigma * o.initial_velocity_sigma);
+  P.block<3, 3>(9, 9).diagonal().setConstant(o.initial_angular_velocity_sigma *
+                                             o.initial_angular_velocity_sigma);
+}
+
 }  // namespace
 
 const char* ToString(TrackOutcome outcome) {
@@ -70,11 +79,7 @@ void Tracker::Maneuver(double position_sigma, double rotation_sigma) {
     m.P.block<3, 3>(3, 3).diagonal().array() += rotation_sigma * rotation_sigma;
     m.P.block<6, 6>(6, 0).setZero();
     m.P.block<6, 6>(0, 6).setZero();
-    m.P.block<6, 6>(6, 6).setZero();
-    m.P.block<3, 3>(6, 6).diagonal().setConstant(options_.initial_velocity_sigma *
-                                                 options_.initial_velocity_sigma);
-    m.P.block<3, 3>(9, 9).diagonal().setConstant(options_.initial_angular_velocity_sigma *
-                                                 options_.initial_angular_velocity_sigma);
+    SetStartRates(options_, m.P);
   }
   track_ = imm::Combine(models_);
 }
@@ -260,9 +265,7 @@ std::vector<imm::Model> Tracker::StartModels(const Eigen::Vector3d& p, const Eig
   m.p = p;
   m.R = R;
   m.P.topLeftCorner<6, 6>() = covariance;
-  m.P.block<3, 3>(6, 6).diagonal().setConstant(o.initial_velocity_sigma * o.initial_velocity_sigma);
-  m.P.block<3, 3>(9, 9).diagonal().setConstant(o.initial_angular_velocity_sigma *
-                                               o.initial_angular_velocity_sigma);
+  SetStartRates(o, m.P);
   m.acceleration_sigma = o.acceleration_sigma;
   m.angular_acceleration_sigma = o.angular_acceleration_sigma;
   if (!(o.maneuver_acceleration_sigma > 0.0)) return {m};
@@ -286,11 +289,7 @@ double Tracker::UpdateModel(const Eigen::Vector3d& p_m, const Eigen::Matrix3d& R
   const Eigen::LDLT<Matrix6d> S_ldlt(S);
   // K = P H^T S^-1 with H = [I6 0]; Joseph form keeps P symmetric positive definite.
   const Eigen::Matrix<double, 12, 6> K = S_ldlt.solve(m.P.leftCols<6>().transpose()).transpose();
-  const imm::Vector12d dx = K * y;
-  m.p += dx.segment<3>(0);
-  m.R = Orthonormal(aar_geometry::RotationExp(dx.segment<3>(3)) * m.R);
-  m.v += dx.segment<3>(6);
-  m.w += dx.segment<3>(9);
+  imm::Apply(K * y, m);
   imm::Matrix12d IKH = imm::Matrix12d::Identity();
   IKH.leftCols<6>() -= K;
   m.P = IKH * m.P * IKH.transpose() + K * covariance * K.transpose();
