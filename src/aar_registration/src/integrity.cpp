@@ -46,6 +46,19 @@ void IntegrityOptions::Validate() const {
     previous = b.max_range_m;
   }
   if (confirm_frames < 0) fail("confirm_frames must be >= 0");
+  if (!(attitude_envelope_deg >= 0.0 && attitude_envelope_deg < 180.0))
+    fail("attitude_envelope_deg must lie in [0, 180)");
+}
+
+std::string OutsideAttitudeEnvelope(const Eigen::Matrix3d& R, const Eigen::Matrix3d& R_nominal,
+                                    double envelope_deg) {
+  if (!(envelope_deg > 0.0)) return "";
+  const double angle_deg = Eigen::AngleAxisd(R_nominal.transpose() * R).angle() * kRadToDeg;
+  if (angle_deg <= envelope_deg) return "";
+  std::ostringstream s;
+  s << "attitude " << angle_deg << " deg from the formation's nominal > envelope " << envelope_deg
+    << " deg";
+  return s.str();
 }
 
 double ProtectionFactor(double risk, int dof) {
@@ -109,6 +122,9 @@ IntegrityResult IntegrityMonitor::Assess(const IntegrityInput& in) {
   if (out.levels.attitude_deg > out.limits.attitude_deg)
     s << "attitude protection level " << out.levels.attitude_deg << " deg > alert limit "
       << out.limits.attitude_deg << " deg; ";
+  const std::string envelope = OutsideAttitudeEnvelope(
+      in.T_tanker_receiver.linear(), in.R_tanker_receiver_nominal, options_.attitude_envelope_deg);
+  if (!envelope.empty()) s << envelope << "; ";
   if (!unconfirmed.empty()) s << unconfirmed << "; ";
   out.reason = s.str();
   if (!out.reason.empty()) out.reason.resize(out.reason.size() - 2);

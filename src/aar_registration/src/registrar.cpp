@@ -190,6 +190,7 @@ RegistrarResult Registrar::Register(const std::vector<Eigen::Vector3d>& all_sens
     out.covariance = CovarianceInTanker(out.icp.covariance, out.T_tanker_receiver);
   } else {
     Track(stamp_s, *sensed, outline, out);
+    DropOutsideEnvelope(out);
     const TrackPrediction& filtered = out.track.filtered;
     out.valid = filtered.valid;
     out.T_tanker_receiver = filtered.T_tanker_receiver;
@@ -233,6 +234,19 @@ Eigen::Isometry3d Registrar::StartPose(const Eigen::Isometry3d& T) const {
   return moved;
 }
 
+std::string Registrar::OutsideEnvelope(const Eigen::Isometry3d& T) const {
+  return OutsideAttitudeEnvelope(T.linear(), options_.T_tanker_receiver_nominal.linear(),
+                                 options_.integrity.attitude_envelope_deg);
+}
+
+void Registrar::DropOutsideEnvelope(RegistrarResult& out) {
+  if (!out.track.filtered.valid) return;
+  const std::string why = OutsideEnvelope(out.track.filtered.T_tanker_receiver);
+  if (why.empty()) return;
+  out.track = tracker_.Drop("integrity: " + why);
+  if (out.outline_ran) out.outline_note = out.track.reason;
+}
+
 void Registrar::AssessIntegrity(RegistrarResult& out) {
   IntegrityInput in;
   in.valid = out.valid;
@@ -242,6 +256,7 @@ void Registrar::AssessIntegrity(RegistrarResult& out) {
   in.outcome = out.track.outcome;
   in.agreeing = out.registration_fused && (!out.outline_ran || out.outline_fused);
   in.acquisition_covariance = StartCovariance();
+  in.R_tanker_receiver_nominal = options_.T_tanker_receiver_nominal.linear();
   out.integrity = integrity_.Assess(in);
   if (out.valid) out.covariance = out.integrity.covariance;
 }
@@ -322,7 +337,10 @@ void Registrar::Start(double stamp_s, const std::vector<Eigen::Vector3d>& sensed
     std::string why = out.registered ? GateFailure(out) : out.error;
     if (why.empty()) {
       const auto a = AlignOutline(frame, out.T_tanker_receiver_registered, StartCovariance(), out);
-      if (a.valid && a.quality >= options_.outline.min_quality) {
+      why = a.valid && a.quality >= options_.outline.min_quality
+                ? OutsideEnvelope(a.T_tanker_receiver)
+                : Quality(a);
+      if (why.empty()) {
         out.track = tracker_.Update(stamp_s, StartPose(a.T_tanker_receiver), a.covariance);
         out.outline_fused = true;
         out.error.clear();
@@ -334,7 +352,6 @@ void Registrar::Start(double stamp_s, const std::vector<Eigen::Vector3d>& sensed
         }
         return;
       }
-      why = Quality(a);
     }
     refused << "seed " << k + 1 << ": " << why << "; ";
     if (!out.registered || rest.empty()) break;  // nothing to set aside
@@ -374,6 +391,8 @@ bool Registrar::ImageStart(double stamp_s, const OutlineFrame& frame, RegistrarR
     why = s.str();
     return false;
   }
+  why = OutsideEnvelope(a.alignment.T_tanker_receiver);
+  if (!why.empty()) return false;
   out.track =
       tracker_.Update(stamp_s, StartPose(a.alignment.T_tanker_receiver), a.alignment.covariance);
   out.outline_fused = true;

@@ -150,6 +150,32 @@ TEST(Integrity, ALevelBeyondThePhasesLimitIsAnAlertThatSaysSo) {
   EXPECT_EQ(missing.reason, "no pose");
 }
 
+// A pose turned further from the formation's nominal attitude than the envelope is an alert that
+// gives the angle, whatever its covariance says; inside the envelope, or with it off, none.
+TEST(Integrity, AnAttitudeOutsideTheFormationsEnvelopeIsAnAlert) {
+  IntegrityOptions o;
+  o.confirm_frames = 0;
+  o.attitude_envelope_deg = 15.0;
+  IntegrityMonitor m(o);
+  IntegrityInput in = Frame(TrackOutcome::kAccepted, true);
+  in.R_tanker_receiver_nominal = Eigen::AngleAxisd(0.05, Eigen::Vector3d::UnitY()).matrix();
+  in.T_tanker_receiver.linear() =
+      Eigen::AngleAxisd(0.05 + 28.0 * kDeg, Eigen::Vector3d::UnitY()).matrix();  // nose down
+  IntegrityResult r = m.Assess(in);
+  EXPECT_TRUE(r.alert);
+  EXPECT_NE(r.reason.find("attitude 28 deg from the formation's nominal > envelope 15 deg"),
+            std::string::npos)
+      << r.reason;
+  in.T_tanker_receiver.linear() =
+      Eigen::AngleAxisd(0.05 - 14.0 * kDeg, Eigen::Vector3d::UnitY()).matrix();
+  r = m.Assess(in);
+  EXPECT_FALSE(r.alert) << r.reason;
+  EXPECT_EQ(
+      OutsideAttitudeEnvelope(Eigen::Matrix3d::Identity(),
+                              Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitX()).matrix(), 0.0),
+      "");  // off
+}
+
 TEST(Integrity, BadOptionsAreNamed) {
   IntegrityOptions o;
   o.integrity_risk = 0.0;
@@ -164,6 +190,9 @@ TEST(Integrity, BadOptionsAreNamed) {
   }
   o = {};
   o.overbound_factor = 0.5;
+  EXPECT_THROW(IntegrityMonitor{o}, std::invalid_argument);
+  o = {};
+  o.attitude_envelope_deg = -1.0;
   EXPECT_THROW(IntegrityMonitor{o}, std::invalid_argument);
 }
 

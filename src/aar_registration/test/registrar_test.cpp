@@ -316,6 +316,39 @@ TEST(Registrar, TrackingCoastsThroughMissesAndReacquiresAfterAJump) {
   for (int k = 30; k < 40; ++k) EXPECT_EQ(outcomes[k], TrackOutcome::kAccepted) << k;
 }
 
+// A track whose attitude leaves the formation's envelope is dropped, and every new start that
+// leaves it too: the receiver registered 30 deg nose down (a self-consistent wrong pose as far as
+// ICP can tell) publishes nothing with the envelope, and a track without it.
+TEST(Registrar, ATrackOutsideTheAttitudeEnvelopeIsDropped) {
+  const Eigen::Isometry3d nominal =
+      aar_geometry::MakeTransform({-35.0, 0.0, -10.0}, {0.0, -0.035, 0.0});
+  Eigen::Isometry3d truth = nominal;
+  truth.linear() = truth.linear() * Eigen::AngleAxisd(-0.52, Eigen::Vector3d::UnitY()).matrix();
+  for (const double envelope_deg : {0.0, 15.0}) {
+    RegistrarOptions options = TrackingOptions();
+    options.reference = ReferenceKind::kDense;
+    options.seed = SeedMode::kPrediction;
+    options.T_tanker_receiver_nominal = nominal;
+    options.integrity.attitude_envelope_deg = envelope_deg;
+    Registrar registrar(options);
+    registrar.BuildStaticReference(Receiver(), {});
+    for (int k = 0; k < 3; ++k) {
+      const RegistrarResult r = registrar.Register(Sensed(truth, 0.005, k), k * 0.1);
+      SCOPED_TRACE("envelope " + std::to_string(envelope_deg) + ", frame " + std::to_string(k) +
+                   ": " + r.error);
+      if (envelope_deg == 0.0) {
+        EXPECT_TRUE(r.valid);
+        EXPECT_LT((r.T_tanker_receiver.translation() - truth.translation()).norm(), 0.05);
+        continue;
+      }
+      EXPECT_FALSE(r.valid);
+      EXPECT_EQ(r.track.outcome, TrackOutcome::kLost);
+      EXPECT_NE(r.error.find("from the formation's nominal > envelope 15 deg"), std::string::npos);
+      EXPECT_TRUE(r.integrity.alert);
+    }
+  }
+}
+
 // Tracking when the stamps go back (a bag loop): a new track from that frame, never a NaN.
 TEST(Registrar, TrackingStartsAgainWhenStampsGoBack) {
   RegistrarOptions options = TrackingOptions();

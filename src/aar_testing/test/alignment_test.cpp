@@ -233,6 +233,43 @@ TEST(OutlineAlignment, AStartWhoseOutlineDoesNotFitIsRefused) {
   }
 }
 
+// A start whose attitude is outside the formation's envelope is refused, however well it fits:
+// here the envelope's centre (the nominal attitude) is put 30 deg nose up of the receiver, so
+// the receiver's true pose, registered and aligned perfectly, is 30 deg outside it.
+TEST(OutlineAlignment, AStartOutsideTheAttitudeEnvelopeIsRefused) {
+  FarFrame far;
+  const aar_geometry::TriangleMesh& mesh = far.mesh();
+  std::vector<Eigen::Vector3d> cloud;
+  for (const auto& p : aar_geometry::SampleReceiver(mesh, {}).points)
+    cloud.push_back(far.f.T_tanker_receiver * p);
+  for (const double envelope_deg : {0.0, 15.0}) {
+    aar_registration::RegistrarOptions o;
+    o.reference = aar_registration::ReferenceKind::kDense;
+    o.track = true;
+    o.outline.enabled = true;
+    o.T_tanker_receiver_nominal = far.f.T_tanker_receiver;
+    o.T_tanker_receiver_nominal.linear() *=
+        Eigen::AngleAxisd(30.0 * M_PI / 180.0, Eigen::Vector3d::UnitY()).matrix();
+    o.integrity.attitude_envelope_deg = envelope_deg;
+    aar_registration::Registrar registrar(o);
+    registrar.BuildStaticReference(mesh, {});
+    registrar.SetOutlineModel(mesh);
+    const aar_registration::RegistrarResult r = registrar.Register(cloud, 1.0, &far.frame);
+    // Measured: refused at 29.88 deg (the alignment within 0.12 deg of the truth).
+    std::printf("[ envelope %.0f deg ] track %s, valid %d, %s\n", envelope_deg,
+                aar_registration::ToString(r.track.outcome), r.valid, r.outline_note.c_str());
+    if (envelope_deg == 0.0) {
+      EXPECT_TRUE(r.valid) << r.outline_note;
+      EXPECT_EQ(r.track.outcome, aar_registration::TrackOutcome::kStarted);
+      continue;
+    }
+    EXPECT_FALSE(r.valid);
+    EXPECT_NE(r.outline_note.find("start refused: seed 1: attitude 29."), std::string::npos)
+        << r.outline_note;
+    EXPECT_NE(r.outline_note.find("> envelope 15 deg"), std::string::npos) << r.outline_note;
+  }
+}
+
 // Clutter denser than a far receiver (on suite approaches 1004 and 1007 tracking_robust's region
 // A error averages 43 and 88 m): the receiver's own shape 140 m short, beside the receiver's
 // points where it is, four times sparser. The densest ball picks the clutter; its start is

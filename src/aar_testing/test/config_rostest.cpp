@@ -528,10 +528,11 @@ TEST(Config, FlightHoldsTrackingOutlinesSettings) {
   EXPECT_TRUE(static_cast<bool>(flight["registration"]["outline_remove_prior"]));
   EXPECT_EQ(static_cast<int>(flight["registration"]["outline_mask_size"]), 1408);
   EXPECT_EQ(static_cast<double>(flight["registration"]["outline_mask_max_scale"]), 1.0);
+  EXPECT_EQ(static_cast<double>(flight["registration"]["integrity_attitude_envelope_deg"]), 15.0);
   // The keys flight sets beyond tracking_outline's, for its integrity (docs/INTEGRITY.md).
-  const std::set<std::string> integrity = {"outline_disparity_rotation", "persistent_pixel_sigma",
-                                           "outline_remove_prior", "outline_mask_size",
-                                           "outline_mask_max_scale"};
+  const std::set<std::string> integrity = {
+      "outline_disparity_rotation", "persistent_pixel_sigma", "outline_remove_prior",
+      "outline_mask_size",          "outline_mask_max_scale", "integrity_attitude_envelope_deg"};
   for (auto& [ns, keys] : flight) {
     if (ns != "registration") {
       EXPECT_TRUE(keys.toXml() == outline[ns].toXml()) << ns << ": flight differs";
@@ -634,6 +635,8 @@ TEST(Config, IntegrityKeysAreRefusedUnderTheirYamlNames) {
       {"integrity_overbound_factor", XmlRpc::XmlRpcValue(0.5)},
       {"integrity_position_bias", XmlRpc::XmlRpcValue(-0.1)},
       {"integrity_confirm_frames", XmlRpc::XmlRpcValue(-1)},
+      {"integrity_attitude_envelope_deg", XmlRpc::XmlRpcValue(-5.0)},
+      {"integrity_attitude_envelope_deg", XmlRpc::XmlRpcValue(180.0)},
       {"persistent_pixel_sigma", XmlRpc::XmlRpcValue(-0.2)},
       {"alert_limit_position", XmlRpc::XmlRpcValue(2.0)}};
   int n = 0;

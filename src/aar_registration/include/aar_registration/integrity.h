@@ -42,6 +42,12 @@ struct IntegrityOptions {
   // (with the outline) their outline both accepted by the filter: a start can be wrong. 0: a
   // start is trusted at once (only to show what the confirmation buys).
   int confirm_frames = 5;
+  // The formation's attitude envelope (not in the thesis) [deg]: a receiver in the refuelling
+  // envelope flies within a few degrees of the tanker's attitude (every approach of the suites
+  // within 3.0 deg of the nominal, docs/INTEGRITY.md), so a pose turned further than this from
+  // the nominal attitude (RegistrarOptions::T_tanker_receiver_nominal) is a wrong one: an alert,
+  // and with tracking a start refused and a track dropped. 0: off.
+  double attitude_envelope_deg = 0.0;
 
   void Validate() const;  // throws std::invalid_argument naming the field
 };
@@ -62,11 +68,18 @@ ProtectionLevels ComputeProtectionLevels(const Matrix6d& covariance,
 // The band whose range holds `range_m` (the last one beyond every other).
 const AlertBand& BandOfRange(const std::vector<AlertBand>& bands, double range_m);
 
+// Why the attitude `R` lies outside the envelope of `envelope_deg` around `R_nominal` (the
+// angle between them and the envelope, in words); empty inside it or when envelope_deg is 0.
+std::string OutsideAttitudeEnvelope(const Eigen::Matrix3d& R, const Eigen::Matrix3d& R_nominal,
+                                    double envelope_deg);
+
 // What one frame tells the monitor.
 struct IntegrityInput {
   bool valid = false;  // a pose
   Eigen::Isometry3d T_tanker_receiver = Eigen::Isometry3d::Identity();
   Matrix6d covariance = Matrix6d::Zero();
+  // The formation's nominal attitude, the centre of IntegrityOptions::attitude_envelope_deg.
+  Eigen::Matrix3d R_tanker_receiver_nominal = Eigen::Matrix3d::Identity();
   bool tracking = false;  // a tracker made the pose; the fields below are meaningful
   TrackOutcome outcome = TrackOutcome::kMissed;
   // Every measurement this frame has (the registration, and the outline when it runs) was

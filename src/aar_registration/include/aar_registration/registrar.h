@@ -253,6 +253,11 @@ class Registrar {
   // The covariance of the errors that persist across frames at pose `T` (PersistentErrorOptions);
   // zero without the frame's cameras or the receiver's size.
   Matrix6d PersistentCovariance(const Eigen::Isometry3d& T, const OutlineFrame* frame) const;
+  // Why `T`'s attitude is outside the formation's envelope (integrity.attitude_envelope_deg
+  // around T_tanker_receiver_nominal); empty inside it or with the envelope off.
+  std::string OutsideEnvelope(const Eigen::Isometry3d& T) const;
+  // A track whose filtered attitude left the envelope is dropped (kLost, back to acquisition).
+  void DropOutsideEnvelope(RegistrarResult& out);
   // The frame's integrity from its pose, covariance and what the tracker did; an unconfirmed
   // track's covariance gains the start's (StartCovariance: how far off an acquisition can be).
   void AssessIntegrity(RegistrarResult& out);

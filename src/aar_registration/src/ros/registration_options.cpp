@@ -192,6 +192,10 @@ IntegrityOptions LoadIntegrityOptions(aar_ros_common::ParamReader& params, Integ
   o.attitude_bias_deg = params.GetNonNegative("integrity_attitude_bias_deg", o.attitude_bias_deg);
   o.confirm_frames = params.Get("integrity_confirm_frames", o.confirm_frames);
   params.Check(o.confirm_frames >= 0, "integrity_confirm_frames", "must be >= 0");
+  o.attitude_envelope_deg =
+      params.GetNonNegative("integrity_attitude_envelope_deg", o.attitude_envelope_deg);
+  params.Check(o.attitude_envelope_deg < 180.0, "integrity_attitude_envelope_deg",
+               "must be below 180");
   o.bands = LoadAlertBands(params, o.bands);
   return o;
 }
