@@ -24,12 +24,15 @@ FrameIntegrity ClassifyIntegrity(const FrameRecord& f, const IntegrityOptions& o
   FrameIntegrity out;
   const double pl_position = f.pl_position_m * options.protection_level_scale;
   const double pl_attitude = f.pl_attitude_deg * options.protection_level_scale;
-  // Scaled levels: a frame whose own levels exceeded its limits is taken as alerted for that
-  // alone, and its alert follows the scaled levels (the publisher raises that alert itself).
+  // Scaled levels: the alert follows them (IntegrityOptions::protection_level_scale).
   bool alert = f.alert;
-  if (alert && options.protection_level_scale != 1.0 &&
-      (f.pl_position_m > f.al_position_m || f.pl_attitude_deg > f.al_attitude_deg))
-    alert = pl_position > f.al_position_m || pl_attitude > f.al_attitude_deg;
+  const bool scaled_beyond = pl_position > f.al_position_m || pl_attitude > f.al_attitude_deg;
+  if (options.protection_level_scale != 1.0) {
+    if (!alert)
+      alert = scaled_beyond;
+    else if (f.pl_position_m > f.al_position_m || f.pl_attitude_deg > f.al_attitude_deg)
+      alert = scaled_beyond;
+  }
   if (!f.estimated || alert || std::isnan(pl_position) || std::isnan(pl_attitude)) return out;
   const double position = PositionErrorNorm(f);
   const double attitude = AttitudeErrorAngleDeg(f);

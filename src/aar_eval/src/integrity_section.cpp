@@ -76,8 +76,9 @@ void WriteIntegritySection(
     std::ostringstream scale;
     scale << options.protection_level_scale;
     out << "**Protection levels scaled by " << scale.str()
-        << " for a check** (make_report --protection-level-scale): misleading, HMI and "
-           "availability are not the estimates' own.\n\n";
+        << "** (make_report --protection-level-scale): misleading, HMI and availability are "
+           "not the estimates' own; above 1 they are those of an overbound factor that much "
+           "larger, below 1 a check.\n\n";
   }
   const Columns<IntegrityRow>& columns = IntegrityColumns();
   WriteTableHead(out, columns);

@@ -140,5 +140,23 @@ TEST(Integrity, ScaledLevelsCanFail) {
   EXPECT_EQ(scaled.available, 2);
 }
 
+// Levels scaled up are what a larger overbound factor publishes: a frame whose scaled level
+// passes its limit is in alert (so neither misleading nor available), one still within it is
+// misleading no more once its level covers the error.
+TEST(Integrity, LevelsScaledUpAlertAsTheirPublisherWould) {
+  // Levels doubled: 0.6 m, within region C's 1 m limit here; 1.2 m, beyond it, and still below
+  // the second frame's 1.5 m error, which is no longer misleading only because it is in alert.
+  const std::vector<FrameRecord> frames = {Frame(35.0, 0.4, 0.1, 0.3, 0.5),
+                                           Frame(35.0, 1.5, 0.1, 0.6, 0.5)};
+  const IntegrityStats one = ComputeIntegrityStats(frames).at("C");
+  EXPECT_EQ(one.misleading, 2);  // 0.4 > 0.3, 1.5 > 0.6
+  EXPECT_EQ(one.hazardous, 1);   // 1.5 > 1
+  EXPECT_EQ(one.available, 2);
+  const IntegrityStats doubled = ComputeIntegrityStats(frames, {2.0}).at("C");
+  EXPECT_EQ(doubled.misleading, 0);  // 0.4 < 0.6; the second is in alert
+  EXPECT_EQ(doubled.available, 1);
+  EXPECT_EQ(doubled.hazardous, 0);
+}
+
 }  // namespace
 }  // namespace aar_eval

@@ -230,7 +230,7 @@ TEST(Report, IntegritySectionAndScaledLevelsCanFail) {
   EXPECT_NE(scaled.find("| flight | region C | 2 / 3 | 17.50 | 50.0 | 2 | 1 | 66.7 |"),
             std::string::npos)
       << scaled;
-  EXPECT_NE(scaled.find("**Protection levels scaled by 0.01 for a check**"), std::string::npos);
+  EXPECT_NE(scaled.find("**Protection levels scaled by 0.01**"), std::string::npos);
   ASSERT_EQ(run("--suite " + dir + "/suite naive,flight naive"), 0) << Read(dir + "/out.txt");
   EXPECT_NE(Read(dir + "/suite/suite.md")
                 .find("| flight | region C | 4 / 6 | 17.50 | 50.0 | 0 | 0 | 33.3 |"),

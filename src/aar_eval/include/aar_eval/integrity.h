@@ -18,9 +18,13 @@ double AttitudeErrorAngleDeg(const FrameRecord& frame);
 
 struct IntegrityOptions {
   // The protection levels are multiplied by it before they are compared (with the errors and the
-  // alert limits): below 1 it shows what levels that much smaller would have let through. A frame
-  // in alert whose own levels exceeded its limits is taken as alerted for that alone: its alert
-  // follows the scaled levels. 1 for the real figures; other values for checks only.
+  // alert limits), and the alert follows them as their publisher raises it: a frame whose scaled
+  // levels exceed its limits is in alert; a frame in alert whose own levels exceeded its limits
+  // is taken as alerted for that alone, so its alert follows the scaled levels. Above 1 (and with
+  // no level bias) that is exactly what a publisher whose overbound factor is that much larger
+  // gives, the estimates being the same: the levels feed nothing back. Below 1 it shows what
+  // levels that much smaller would have let through (a frame in alert for its levels and for
+  // another reason is then counted as not alerted). 1 for the published figures.
   double protection_level_scale = 1.0;
 };
 
