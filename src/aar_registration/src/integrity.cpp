@@ -43,6 +43,8 @@ void IntegrityOptions::Validate() const {
   for (const AlertBand& b : bands) {
     if (!(b.max_range_m > previous)) fail("alert bands must rise in range");
     if (!(b.position_m > 0.0) || !(b.attitude_deg > 0.0)) fail("alert limits must be > 0");
+    if (!(b.overbound_factor == 0.0 || b.overbound_factor >= 1.0))
+      fail("a band's overbound_factor must be 0 (the options') or >= 1");
     previous = b.max_range_m;
   }
   if (confirm_frames < 0) fail("confirm_frames must be >= 0");
@@ -67,9 +69,10 @@ double ProtectionFactor(double risk, int dof) {
 }
 
 ProtectionLevels ComputeProtectionLevels(const Matrix6d& covariance,
-                                         const IntegrityOptions& options) {
-  return Levels(covariance, options.overbound_factor * ProtectionFactor(options.integrity_risk),
-                options);
+                                         const IntegrityOptions& options, const AlertBand& band) {
+  const double factor =
+      band.overbound_factor > 0.0 ? band.overbound_factor : options.overbound_factor;
+  return Levels(covariance, factor * ProtectionFactor(options.integrity_risk), options);
 }
 
 const AlertBand& BandOfRange(const std::vector<AlertBand>& bands, double range_m) {
@@ -80,7 +83,6 @@ const AlertBand& BandOfRange(const std::vector<AlertBand>& bands, double range_m
 
 IntegrityMonitor::IntegrityMonitor(const IntegrityOptions& options) : options_(options) {
   options_.Validate();
-  factor_ = options_.overbound_factor * ProtectionFactor(options_.integrity_risk);
 }
 
 std::string IntegrityMonitor::Confirm(const IntegrityInput& in) {
@@ -110,9 +112,9 @@ IntegrityResult IntegrityMonitor::Assess(const IntegrityInput& in) {
   out.confirmed = confirmed_;
   out.covariance = in.covariance;
   if (!unconfirmed.empty()) out.covariance += in.acquisition_covariance;
-  out.levels = Levels(out.covariance, factor_, options_);
-  out.risk = options_.integrity_risk;
   out.limits = BandOfRange(options_.bands, in.T_tanker_receiver.translation().norm());
+  out.levels = ComputeProtectionLevels(out.covariance, options_, out.limits);
+  out.risk = options_.integrity_risk;
   std::ostringstream s;
   if (!std::isfinite(out.levels.position_m) || !std::isfinite(out.levels.attitude_deg))
     s << "protection level not finite; ";

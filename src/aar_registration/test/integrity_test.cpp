@@ -176,6 +176,30 @@ TEST(Integrity, AnAttitudeOutsideTheFormationsEnvelopeIsAnAlert) {
       "");  // off
 }
 
+// A band's own overbound factor sets the levels of the poses in it; a band without one takes the
+// options'. The same covariance at 36 m (C: 1.65) and at 100 m (A: 5.75, B none: 1.5).
+TEST(Integrity, EachPhaseOverboundsWithItsOwnFactor) {
+  IntegrityOptions o;
+  o.confirm_frames = 0;
+  o.overbound_factor = 1.5;
+  o.bands[0].overbound_factor = 1.65;
+  o.bands[2].overbound_factor = 5.75;
+  IntegrityMonitor m(o);
+  const double k = ProtectionFactor(1e-5);
+  IntegrityInput in = Frame(TrackOutcome::kAccepted, true, 0.01);  // 36.5 m
+  EXPECT_NEAR(m.Assess(in).levels.position_m, 1.65 * k * 0.01, 1e-12);
+  in.T_tanker_receiver.translation() << -50.0, 0.0, -10.0;  // B
+  EXPECT_NEAR(m.Assess(in).levels.position_m, 1.5 * k * 0.01, 1e-12);
+  in.T_tanker_receiver.translation() << -100.0, 0.0, -10.0;  // A
+  const IntegrityResult far = m.Assess(in);
+  EXPECT_NEAR(far.levels.position_m, 5.75 * k * 0.01, 1e-12);
+  EXPECT_NEAR(far.levels.attitude_deg, 5.75 * k * 0.01, 1e-9);
+  EXPECT_NEAR(ComputeProtectionLevels(in.covariance, o, o.bands[2]).position_m,
+              far.levels.position_m, 1e-15);
+  o.bands[1].overbound_factor = 0.5;  // below 1 and not 0
+  EXPECT_THROW(IntegrityMonitor{o}, std::invalid_argument);
+}
+
 TEST(Integrity, BadOptionsAreNamed) {
   IntegrityOptions o;
   o.integrity_risk = 0.0;

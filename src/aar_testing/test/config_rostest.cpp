@@ -280,6 +280,7 @@ TEST(Config, RegistrationYamlHoldsTheStructsDefaults) {
     EXPECT_EQ(yi.bands[i].max_range_m, bi.bands[i].max_range_m) << "band " << i;
     EXPECT_EQ(yi.bands[i].position_m, bi.bands[i].position_m) << "band " << i;
     EXPECT_EQ(yi.bands[i].attitude_deg, bi.bands[i].attitude_deg) << "band " << i;
+    EXPECT_EQ(yi.bands[i].overbound_factor, bi.bands[i].overbound_factor) << "band " << i;
   }
   const auto &yc = yaml.common, &bc = bare.common;
   EXPECT_EQ(yc.frames.tanker, bc.frames.tanker);
@@ -532,7 +533,8 @@ TEST(Config, FlightHoldsTrackingOutlinesSettings) {
   // The keys flight sets beyond tracking_outline's, for its integrity (docs/INTEGRITY.md).
   const std::set<std::string> integrity = {
       "outline_disparity_rotation", "persistent_pixel_sigma", "outline_remove_prior",
-      "outline_mask_size",          "outline_mask_max_scale", "integrity_attitude_envelope_deg"};
+      "outline_mask_size",          "outline_mask_max_scale", "integrity_attitude_envelope_deg",
+      "alert_overbound_factor"};
   for (auto& [ns, keys] : flight) {
     if (ns != "registration") {
       EXPECT_TRUE(keys.toXml() == outline[ns].toXml()) << ns << ": flight differs";
@@ -638,7 +640,8 @@ TEST(Config, IntegrityKeysAreRefusedUnderTheirYamlNames) {
       {"integrity_attitude_envelope_deg", XmlRpc::XmlRpcValue(-5.0)},
       {"integrity_attitude_envelope_deg", XmlRpc::XmlRpcValue(180.0)},
       {"persistent_pixel_sigma", XmlRpc::XmlRpcValue(-0.2)},
-      {"alert_limit_position", XmlRpc::XmlRpcValue(2.0)}};
+      {"alert_limit_position", XmlRpc::XmlRpcValue(2.0)},
+      {"alert_overbound_factor", XmlRpc::XmlRpcValue(1.5)}};
   int n = 0;
   for (const auto& [key, value] : bad_values) {
     ros::NodeHandle bad("/registration_integrity_bad_" + std::to_string(n++));

@@ -17,6 +17,9 @@ struct AlertBand {
   double max_range_m = std::numeric_limits<double>::infinity();  // [m]
   double position_m = 0.0;                                       // [m] 3D position error
   double attitude_deg = 0.0;                                     // [deg] rotation angle
+  // The overbound factor of the levels in this phase (IntegrityOptions::overbound_factor's
+  // meaning); 0: that one. Far out the errors are the alignment's biases more than its noise.
+  double overbound_factor = 0.0;
 };
 
 // Integrity monitoring (not in the thesis): each pose's protection levels, bounds on its error
@@ -29,8 +32,9 @@ struct IntegrityOptions {
   // level = overbound_factor * K(integrity_risk) * sigma_max + bias, where sigma_max is the
   // covariance's largest standard deviation of the 3 positions (or rotations) and K the
   // chi-square bound of a 3D error at the risk. Calibrated on seeds the reports do not use: the
-  // largest error in sigma_max of any frame not in alert, over suite seed 7's 8 flights (both
-  // worlds), was 7.61 (docs/INTEGRITY.md), 1.50 K(1e-5).
+  // largest error in sigma_max of any frame not in alert, over suite seed 7's 8 flights of the
+  // C-12 (both worlds), was 7.61 (docs/INTEGRITY.md), 1.50 K(1e-5). A band may carry its own
+  // (AlertBand::overbound_factor), as flight's do.
   double overbound_factor = 1.5;
   double position_bias_m = 0.0;    // [m]
   double attitude_bias_deg = 0.0;  // [deg]
@@ -61,9 +65,11 @@ struct ProtectionLevels {
 // Gaussian error's norm exceeds K * sigma_max with probability at most `risk`.
 double ProtectionFactor(double risk, int dof = 3);
 
-// The levels of a covariance ([m^2, rad^2]: position, then rotation) under `options`.
+// The levels of a covariance ([m^2, rad^2]: position, then rotation) under `options`, with the
+// overbound factor of `band` (its own, or the options' when it has none).
 ProtectionLevels ComputeProtectionLevels(const Matrix6d& covariance,
-                                         const IntegrityOptions& options);
+                                         const IntegrityOptions& options,
+                                         const AlertBand& band = {});
 
 // The band whose range holds `range_m` (the last one beyond every other).
 const AlertBand& BandOfRange(const std::vector<AlertBand>& bands, double range_m);
@@ -113,7 +119,6 @@ class IntegrityMonitor {
   std::string Confirm(const IntegrityInput& in);
 
   IntegrityOptions options_;
-  double factor_;  // overbound_factor * K(integrity_risk): a quantile, computed once
   int confirmed_ = 0;
 };
 

@@ -157,28 +157,35 @@ OutlineOptions LoadOutlineOptions(aar_ros_common::ParamReader& params, OutlineOp
 // one more alert_limit_position [m] and alert_limit_attitude_deg [deg] than ranges.
 std::vector<AlertBand> LoadAlertBands(aar_ros_common::ParamReader& params,
                                       const std::vector<AlertBand>& defaults) {
-  std::vector<double> ranges, positions, attitudes;
+  std::vector<double> ranges, positions, attitudes, factors;
   for (size_t i = 0; i < defaults.size(); ++i) {
     if (i + 1 < defaults.size()) ranges.push_back(defaults[i].max_range_m);
     positions.push_back(defaults[i].position_m);
     attitudes.push_back(defaults[i].attitude_deg);
+    factors.push_back(defaults[i].overbound_factor);
   }
   ranges = params.Get("alert_band_max_range", ranges);
   positions = params.Get("alert_limit_position", positions);
   attitudes = params.Get("alert_limit_attitude_deg", attitudes);
+  factors = params.Get("alert_overbound_factor", factors);
   params.Check(positions.size() == ranges.size() + 1, "alert_limit_position",
                "must hold one limit more than alert_band_max_range has ranges");
   params.Check(attitudes.size() == positions.size(), "alert_limit_attitude_deg",
                "must hold as many limits as alert_limit_position");
+  params.Check(factors.size() == positions.size(), "alert_overbound_factor",
+               "must hold as many factors as alert_limit_position has limits");
   std::vector<AlertBand> bands(positions.size());
   for (size_t i = 0; i < bands.size(); ++i) {
     if (i < ranges.size()) bands[i].max_range_m = ranges[i];
     bands[i].position_m = positions[i];
     bands[i].attitude_deg = attitudes[i];
+    bands[i].overbound_factor = factors[i];
     params.Check(i == 0 || i == ranges.size() || ranges[i] > ranges[i - 1], "alert_band_max_range",
                  "must rise");
     params.Check(positions[i] > 0.0, "alert_limit_position", "must be > 0");
     params.Check(attitudes[i] > 0.0, "alert_limit_attitude_deg", "must be > 0");
+    params.Check(factors[i] == 0.0 || factors[i] >= 1.0, "alert_overbound_factor",
+                 "must be 0 (integrity_overbound_factor) or >= 1");
   }
   return bands;
 }
