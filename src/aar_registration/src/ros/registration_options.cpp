@@ -154,7 +154,8 @@ OutlineOptions LoadOutlineOptions(aar_ros_common::ParamReader& params, OutlineOp
 }
 
 // The alert bands: alert_band_max_range [m] (rising; the last band reaches any range beyond) and
-// one more alert_limit_position [m] and alert_limit_attitude_deg [deg] than ranges.
+// one more alert_limit_position [m], alert_limit_attitude_deg [deg] and alert_overbound_factor
+// (0: integrity_overbound_factor) than ranges.
 std::vector<AlertBand> LoadAlertBands(aar_ros_common::ParamReader& params,
                                       const std::vector<AlertBand>& defaults) {
   std::vector<double> ranges, positions, attitudes, factors;
