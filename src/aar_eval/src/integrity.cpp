@@ -26,13 +26,10 @@ FrameIntegrity ClassifyIntegrity(const FrameRecord& f, const IntegrityOptions& o
   const double pl_attitude = f.pl_attitude_deg * options.protection_level_scale;
   // Scaled levels: the alert follows them (IntegrityOptions::protection_level_scale).
   bool alert = f.alert;
-  const bool scaled_beyond = pl_position > f.al_position_m || pl_attitude > f.al_attitude_deg;
-  if (options.protection_level_scale != 1.0) {
-    if (!alert)
-      alert = scaled_beyond;
-    else if (f.pl_position_m > f.al_position_m || f.pl_attitude_deg > f.al_attitude_deg)
-      alert = scaled_beyond;
-  }
+  const bool own_beyond =
+      f.pl_position_m > f.al_position_m || f.pl_attitude_deg > f.al_attitude_deg;
+  if (options.protection_level_scale != 1.0 && (!alert || own_beyond))
+    alert = pl_position > f.al_position_m || pl_attitude > f.al_attitude_deg;
   if (!f.estimated || alert || std::isnan(pl_position) || std::isnan(pl_attitude)) return out;
   const double position = PositionErrorNorm(f);
   const double attitude = AttitudeErrorAngleDeg(f);

@@ -30,6 +30,11 @@ ProtectionLevels Levels(const Matrix6d& covariance, double k, const IntegrityOpt
   return out;
 }
 
+// The overbound factor of `band`'s levels: its own, or the options' when it has none.
+double BandFactor(const AlertBand& band, const IntegrityOptions& options) {
+  return band.overbound_factor > 0.0 ? band.overbound_factor : options.overbound_factor;
+}
+
 }  // namespace
 
 void IntegrityOptions::Validate() const {
@@ -70,9 +75,8 @@ double ProtectionFactor(double risk, int dof) {
 
 ProtectionLevels ComputeProtectionLevels(const Matrix6d& covariance,
                                          const IntegrityOptions& options, const AlertBand& band) {
-  const double factor =
-      band.overbound_factor > 0.0 ? band.overbound_factor : options.overbound_factor;
-  return Levels(covariance, factor * ProtectionFactor(options.integrity_risk), options);
+  return Levels(covariance, BandFactor(band, options) * ProtectionFactor(options.integrity_risk),
+                options);
 }
 
 const AlertBand& BandOfRange(const std::vector<AlertBand>& bands, double range_m) {
@@ -83,6 +87,7 @@ const AlertBand& BandOfRange(const std::vector<AlertBand>& bands, double range_m
 
 IntegrityMonitor::IntegrityMonitor(const IntegrityOptions& options) : options_(options) {
   options_.Validate();
+  k_ = ProtectionFactor(options_.integrity_risk);
 }
 
 std::string IntegrityMonitor::Confirm(const IntegrityInput& in) {
@@ -113,7 +118,7 @@ IntegrityResult IntegrityMonitor::Assess(const IntegrityInput& in) {
   out.covariance = in.covariance;
   if (!unconfirmed.empty()) out.covariance += in.acquisition_covariance;
   out.limits = BandOfRange(options_.bands, in.T_tanker_receiver.translation().norm());
-  out.levels = ComputeProtectionLevels(out.covariance, options_, out.limits);
+  out.levels = Levels(out.covariance, BandFactor(out.limits, options_) * k_, options_);
   out.risk = options_.integrity_risk;
   std::ostringstream s;
   if (!std::isfinite(out.levels.position_m) || !std::isfinite(out.levels.attitude_deg))

@@ -119,6 +119,7 @@ class IntegrityMonitor {
   std::string Confirm(const IntegrityInput& in);
 
   IntegrityOptions options_;
+  double k_;  // K(integrity_risk): a quantile, computed once
   int confirmed_ = 0;
 };
 
