@@ -14,7 +14,8 @@ import os
 
 
 def measured(dirs):
-    """experiment -> list of (frames, seconds, peak MB) of the runs that finished first time."""
+    """experiment -> list of (frames, seconds, peak MB, CPU seconds or None) of the runs that
+    finished first time."""
     table = {}
     for d in dirs:
         for path in glob.glob(os.path.join(d, "**", "run.json"), recursive=True):
@@ -22,7 +23,8 @@ def measured(dirs):
                 r = json.load(f)
             if r.get("status") == "ok" and r.get("attempts") == 1:
                 e = os.path.basename(os.path.dirname(path))
-                table.setdefault(e, []).append((r["frames"], r["seconds"], r.get("peak_rss_mb")))
+                table.setdefault(e, []).append((r["frames"], r["seconds"], r.get("peak_rss_mb"),
+                                                r.get("cpu_seconds")))
     return table
 
 
@@ -39,18 +41,22 @@ def main(argv):
     if not table:
         print("cost: no finished run (run.json) under " + ", ".join(a.dirs))
         return 1
-    print("| experiment | runs | frames a run | s a frame | s a run | peak memory (MB) |")
-    print("|---|---:|---:|---:|---:|---:|")
+    print("| experiment | runs | frames a run | s a frame | CPU s a frame | s a run "
+          "| peak memory (MB) |")
+    print("|---|---:|---:|---:|---:|---:|---:|")
     per_approach, longest = 0.0, 0.0
     for e, runs in sorted(table.items()):
         frames = sum(r[0] for r in runs)
         seconds = sum(r[1] for r in runs)
         peaks = [r[2] for r in runs if r[2]]
+        timed = [r for r in runs if r[3] is not None]  # runs flown before CPU was recorded: none
+        cpu = (f"{sum(r[3] for r in timed) / sum(r[0] for r in timed):.3f}" if timed else "n/a")
         rate = seconds / frames
         mean_frames = frames / len(runs)
         per_approach += rate * mean_frames
         longest = max(longest, max(r[1] for r in runs) * a.world_factor)
-        print(f"| {e} | {len(runs)} | {mean_frames:.0f} | {rate:.3f} | {rate * mean_frames:.0f} "
+        print(f"| {e} | {len(runs)} | {mean_frames:.0f} | {rate:.3f} | {cpu} "
+              f"| {rate * mean_frames:.0f} "
               f"| {max(peaks) if peaks else 'n/a'} |")
     worlds = 1 + (a.worlds - 1) * a.world_factor
     core_hours = per_approach * a.approaches * worlds / 3600

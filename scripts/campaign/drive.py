@@ -7,6 +7,7 @@ import time
 from campaign import local, slurm, cluster
 from campaign.campaign import append_provenance
 from campaign.execute import is_done, reason_of
+from campaign.progress import Progress
 from campaign.reports import write_reports
 from campaign.workspace import Refused, commit, fail, say, utc_now
 
@@ -52,16 +53,18 @@ def drive(campaign, a, started=None):
         append_provenance(campaign, [f"resumed {utc_now()} UTC at commit {commit()}: "
                                      f"{len(todo)} runs to fly"])
     start = time.monotonic()
+    flying = {r.key for r in todo}
+    progress = Progress(campaign.runs, [r.key for r in campaign.runs if r.key not in flying])
     if a.engine == "local":
         jobs = _jobs(a, campaign, todo)
         say(f"{len(todo)} runs, {jobs} at a time; out {campaign.out}")
-        _, interrupted = local.run_local(campaign, todo, jobs) if todo else ([], False)
+        _, interrupted = local.run_local(campaign, todo, jobs, progress) if todo else ([], False)
         return finish(campaign, f"local, {jobs} at a time", time.monotonic() - start,
                       len(todo), interrupted)
-    return _drive_slurm(campaign, a, todo, start, started)
+    return _drive_slurm(campaign, a, todo, start, started, progress)
 
 
-def _drive_slurm(campaign, a, todo, start, started):
+def _drive_slurm(campaign, a, todo, start, started, progress):
     if not todo:
         cluster.stop(started)
         return finish(campaign, "slurm", 0.0, 0)
@@ -77,7 +80,7 @@ def _drive_slurm(campaign, a, todo, start, started):
                 f"for what fails")
             return 0
         bound = sum(campaign.runs[i].timeout() for i in indices) + 600
-        record = slurm.wait(campaign, arrays, merge, bound, own_cluster=bool(started))
+        record = slurm.wait(campaign, arrays, merge, bound, progress, own_cluster=bool(started))
     except Refused as e:
         fail(str(e))
     except KeyboardInterrupt:

@@ -69,6 +69,7 @@ class Flight:
         self.run, self.out_dir, self.port = run, out_dir, port
         self.proc = None
         self.peak_rss_mb = 0.0
+        self.cpu_seconds = 0.0
 
     def fly(self):
         env = dict(ros_env(), ROS_MASTER_URI=f"http://localhost:{self.port}")
@@ -80,20 +81,24 @@ class Flight:
             done = threading.Event()
             sampler = threading.Thread(target=self._sample, args=(done,), daemon=True)
             sampler.start()
-            code = self.proc.wait()
+            # wait4, not wait: its rusage also holds every node the launch reaped (the run's CPU).
+            _, status, usage = os.wait4(self.proc.pid, 0)
+            self.proc.returncode = code = os.waitstatus_to_exitcode(status)
+            self.cpu_seconds = usage.ru_utime + usage.ru_stime
             done.set()  # the sampler stops at once, not after its period
             sampler.join()
             return code
 
     def _sample(self, done, period=2.0):
-        """The run's peak memory (every `period` s), for sizing cluster jobs."""
-        while self.proc.poll() is None:
+        """The run's peak memory (every `period` s), for sizing cluster jobs. Never reaps: the
+        launch's exit status and CPU time are fly()'s."""
+        while not done.is_set():
             self.peak_rss_mb = max(self.peak_rss_mb, tree_rss_mb(self.proc.pid))
             if done.wait(period):
                 return
 
     def stop(self):
-        if self.proc is not None and self.proc.poll() is None:
+        if self.proc is not None and self.proc.returncode is None:
             try:
                 os.killpg(self.proc.pid, signal.SIGINT)
             except ProcessLookupError:
@@ -119,6 +124,7 @@ def execute(run, campaign_dir, port, stopping=lambda: False, on_flight=lambda f:
         rows = frames_recorded(out)
         status.update(attempts=attempt, recorded=rows, exit=code,
                       seconds=round(time.monotonic() - t0, 1),
+                      cpu_seconds=round(flight.cpu_seconds, 1),
                       peak_rss_mb=round(flight.peak_rss_mb))
         if rows == run.frames:
             status["status"] = "ok"
@@ -161,7 +167,7 @@ def refusal(out_dir):
 def describe(status):
     if status["status"] == "ok":
         retried = " (on its retry)" if status["attempts"] > 1 else ""
-        return f"ok{retried}, {status['seconds']:.0f} s"
+        return f"ok{retried}, {status['seconds']:.0f} s ({status['cpu_seconds']:.0f} s CPU)"
     why = f": {status['reason']}" if status.get("reason") else ""
     return (f"{status['status'].upper()} ({status.get('recorded', 0)} of {status['frames']} "
             f"frames, {status['attempts']} attempt(s)){why}")

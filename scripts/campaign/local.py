@@ -8,8 +8,9 @@ from campaign.execute import describe, eval_lines, execute, log_tail
 from campaign.workspace import free_ports, say
 
 
-def run_local(campaign, runs, jobs):
-    """Flies `runs` (a list of Run); returns (failed keys, interrupted)."""
+def run_local(campaign, runs, jobs, progress):
+    """Flies `runs` (a list of Run), counting each finished one on `progress`; returns (failed
+    keys, interrupted)."""
     free = free_ports(jobs)
     # Re-entrant: the signal handler below takes it in the main thread, and a second signal can
     # arrive while the first one's handler holds it (`timeout` sends its SIGINT to the child
@@ -33,7 +34,11 @@ def run_local(campaign, runs, jobs):
             done[0] += 1
             if status["status"] != "ok":
                 failed.append(run.key)
+            else:
+                progress.finished(run.key)
+            progress.clear()
             say(f"[{done[0]}/{len(runs)}] {run.key}: {run.frames} frames, {describe(status)}")
+            progress.show()
             if campaign.kind == "run" and status["status"] == "ok":
                 print(eval_lines(run, campaign.out), flush=True)
             if status["status"] == "failed":

@@ -10,6 +10,7 @@ import subprocess
 import sys
 import time
 
+from campaign.execute import is_done
 from campaign.workspace import ROOT, Refused, say
 
 DRIVER = os.path.join(ROOT, "scripts/campaign")
@@ -106,8 +107,19 @@ def queued(job):
     return p.returncode == 0 and p.stdout.strip() != ""
 
 
-def wait(campaign, arrays, merge, bound_seconds, own_cluster=False):
-    """Waits until the merge job has left the queue (bounded); returns the merge's record."""
+def _count_finished(campaign, progress):
+    """Counts the runs the queue has finished since the last look; shows progress if any."""
+    fresh = [r.key for r in campaign.runs
+             if r.key not in progress.done and is_done(r, campaign.out)]
+    for key in fresh:
+        progress.finished(key)
+    if fresh:
+        progress.show()
+
+
+def wait(campaign, arrays, merge, bound_seconds, progress, own_cluster=False):
+    """Waits until the merge job has left the queue (bounded), showing `progress` as its runs
+    finish; returns the merge's record."""
     deadline = time.monotonic() + bound_seconds
     array = ",".join(arrays)
 
@@ -121,7 +133,9 @@ def wait(campaign, arrays, merge, bound_seconds, own_cluster=False):
                               f"{bound_seconds / 60:.0f} min; they go on: scancel "
                               f"{' '.join(arrays)} {merge} to stop them, scripts/run --resume "
                               f"{campaign.out} afterwards")
+            _count_finished(campaign, progress)
             time.sleep(POLL_SECONDS)
+        _count_finished(campaign, progress)
     except KeyboardInterrupt:
         if own_cluster:
             say(f"interrupted: the single-node cluster this driver brought up stops, and its "

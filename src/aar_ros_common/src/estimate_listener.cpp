@@ -42,6 +42,7 @@ void EstimateListener::OnEstimate(const aar_msgs::PoseEstimate::ConstPtr& msg) {
     std::lock_guard<std::mutex> lock(mutex_);
     if (msg->header.stamp < last_stamp_) latest_valid_.reset();  // a bag loop: start afresh
     last_stamp_ = msg->header.stamp;
+    latest_had_pose_ = msg->valid;
     track_ended_ = msg->track == aar_msgs::PoseEstimate::TRACK_LOST ||
                    msg->track == aar_msgs::PoseEstimate::TRACK_RESET;
     if (msg->valid && msg->header.frame_id != tanker_frame_) {
@@ -58,11 +59,13 @@ void EstimateListener::OnEstimate(const aar_msgs::PoseEstimate::ConstPtr& msg) {
   arrived_.notify_all();
 }
 
-bool EstimateListener::WaitFor(const ros::Time& stamp, double timeout) {
+bool EstimateListener::WaitFor(const ros::Time& stamp, double timeout, bool* valid) {
   std::unique_lock<std::mutex> lock(mutex_);
-  return arrived_.wait_for(lock, std::chrono::duration<double>(timeout), [&] {
+  const bool arrived = arrived_.wait_for(lock, std::chrono::duration<double>(timeout), [&] {
     return last_stamp_ >= stamp || !ros::ok();
   }) && last_stamp_ >= stamp;
+  if (valid) *valid = latest_had_pose_;
+  return arrived;
 }
 
 std::optional<EstimateListener::Prediction> EstimateListener::Predict(const ros::Time& stamp,

@@ -129,6 +129,18 @@ TEST(Campaign, ASuiteThroughSlurmEqualsTheLocalOne) {
   aar_testing::RunCommand("rm -rf " + local + " " + slurm);
   auto r = aar_testing::RunCommand(ScriptsRun(std::string(kSuite) + " --out " + local));
   ASSERT_EQ(r.status, 0) << r.output;
+  // Progress as plain lines (not a terminal): runs and frames done of all, rate, time to go.
+  const std::regex progress(
+      R"(progress: 4/4 runs, (\d+)/\1 frames, [0-9.]+ frames/s, \d+:\d\d:\d\d so far, )"
+      R"(0:00:00 to go)");
+  EXPECT_TRUE(std::regex_search(r.output, progress)) << r.output;
+  EXPECT_NE(r.output.find("progress: 1/4 runs, "), std::string::npos) << r.output;
+  // Each run's CPU time (its launch and every node, from wait4): more than none.
+  std::smatch cpu;
+  const std::string run_json = Read(local + "/approaches/01/naive/run.json");
+  ASSERT_TRUE(std::regex_search(run_json, cpu, std::regex(R"("cpu_seconds": ([0-9.]+))")))
+      << run_json;
+  EXPECT_GT(std::stod(cpu[1]), 1.0) << run_json;
   // No cluster configured: the driver brings a single-node one up, and stops it at the end.
   r = aar_testing::RunCommand("env -u SLURM_CONF " +
                               ScriptsRun(std::string(kSuite) + " --engine slurm --out " + slurm));
@@ -136,6 +148,7 @@ TEST(Campaign, ASuiteThroughSlurmEqualsTheLocalOne) {
   if (!Exists("/etc/slurm/slurm.conf"))
     EXPECT_NE(r.output.find("bringing up a single-node one"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("4 runs submitted to Slurm as job array"), std::string::npos) << r.output;
+  EXPECT_TRUE(std::regex_search(r.output, progress)) << "the queue's progress: " << r.output;
   for (int task = 0; task < 4; ++task) {
     const std::string log =
         aar_testing::RunCommand("cat " + slurm + "/slurm/*-task-" + std::to_string(task) + ".log")

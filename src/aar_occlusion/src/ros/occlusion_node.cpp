@@ -59,7 +59,8 @@ OcclusionNode::OcclusionNode(ros::NodeHandle nh, ros::NodeHandle private_nh,
   diagnostics_timer_ =
       nh_.createWallTimer(ros::WallDuration(options_.common.diagnostic_period),
                           [this](const ros::WallTimerEvent&) { diagnostics_.force_update(); });
-  if (options_.extrapolate_estimate) {
+  // Also without extrapolation: the previous frame's estimate says whether its tf will come.
+  if (options_.extrapolate_estimate || step_->builds_reference()) {
     estimates_ = std::make_unique<aar_ros_common::EstimateListener>(nh_, "aar/pose_estimate",
                                                                     options_.common.frames.tanker);
   }
@@ -91,19 +92,23 @@ std::optional<Eigen::Isometry3d> OcclusionNode::Lookup(const std::string& frame,
 
 // The latest estimate as the predicted pose (moved on to `stamp` with extrapolate_estimate), once
 // the previous cloud's estimate (usually on its way in lockstep) has come or estimate_wait has
-// passed.
+// passed. Without extrapolation the pose is registration's tf, sent only for a valid estimate:
+// after a miss there is no tf to wait for, and the latest older one is used at once.
 std::optional<Eigen::Isometry3d> OcclusionNode::PredictedPose(const ros::Time& stamp) {
-  if (estimates_) {
-    if (previous_stamp_ && options_.estimate_wait > 0.0)
-      estimates_->WaitFor(*previous_stamp_, options_.estimate_wait);
+  const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(options_.estimate_wait);
+  bool had_pose = true;
+  if (previous_stamp_ && options_.estimate_wait > 0.0 &&
+      !estimates_->WaitFor(*previous_stamp_, options_.estimate_wait, &had_pose))
+    had_pose = true;  // not come: its tf may still
+  if (options_.extrapolate_estimate) {
     const auto p = estimates_->Predict(stamp, options_.common.estimate_max_age);
     if (!p) return std::nullopt;
     return p->T_tanker_receiver;
   }
-  if (previous_stamp_) {
+  const double left = (deadline - ros::WallTime::now()).toSec();
+  if (previous_stamp_ && had_pose && left > 0.0) {
     aar_ros_common::WaitForTransform(tf_buffer_, options_.common.frames.tanker,
-                                     options_.common.frames.receiver, *previous_stamp_,
-                                     options_.estimate_wait);
+                                     options_.common.frames.receiver, *previous_stamp_, left);
   }
   return aar_ros_common::LatestTransform(tf_buffer_, options_.common.frames.tanker,
                                          options_.common.frames.receiver, stamp,

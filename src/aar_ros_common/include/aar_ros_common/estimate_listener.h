@@ -32,8 +32,10 @@ class EstimateListener {
                    const std::string& tanker_frame);
   ~EstimateListener();
 
-  // Blocks up to `timeout` [s wall] until an estimate stamped `stamp` or later has arrived.
-  bool WaitFor(const ros::Time& stamp, double timeout);
+  // Blocks up to `timeout` [s wall] until an estimate stamped `stamp` or later has arrived. With
+  // `valid`, also says whether the latest estimate had a pose (registration sends the receiver's
+  // tf only then, so a stage waiting for that tf need not wait after a miss).
+  bool WaitFor(const ros::Time& stamp, double timeout, bool* valid = nullptr);
 
   // The latest valid estimate moved on to `stamp`, if it is at most `max_age` [s] older than
   // `stamp` and not newer (a bag loop), and the latest estimate did not end its track (lost or
@@ -52,6 +54,7 @@ class EstimateListener {
   ros::Time last_stamp_;                           // of any estimate
   aar_msgs::PoseEstimate::ConstPtr latest_valid_;  // the latest with a usable pose
   bool track_ended_ = false;                       // the latest estimate said lost or reset
+  bool latest_had_pose_ = false;                   // the latest estimate was valid
   bool warned_frame_ = false;
 };
 

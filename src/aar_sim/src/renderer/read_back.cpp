@@ -1,6 +1,6 @@
 // Read-back: the framebuffer's attachments into images (row 0 at the top), and the 8-bit
 // conversion of a radiance image as OpenGL does it (Renderer::ConvertLikeR8Attachment).
-#include <cstring>
+#include <algorithm>
 
 #include "renderer/gl_state.h"
 #include "renderer/shaders.h"
@@ -9,19 +9,20 @@ namespace aar_sim {
 namespace render {
 namespace {
 
-// One attachment of the bound framebuffer; OpenGL's row 0 is the bottom one.
+// One attachment of the bound framebuffer; OpenGL's row 0 is the bottom one, so the rows are
+// swapped in place after the read (no second frame-sized buffer to allocate and fill).
 template <typename T>
 void ReadAttachment(const CameraIntrinsics& k, GLenum attachment, GLenum format, GLenum type,
                     Image<T>* image) {
   image->width = k.width;
   image->height = k.height;
   image->data.resize(static_cast<size_t>(k.width) * k.height);
-  std::vector<T> flipped(image->data.size());
   glReadBuffer(attachment);
-  glReadPixels(0, 0, k.width, k.height, format, type, flipped.data());
-  for (int v = 0; v < k.height; ++v) {
-    std::memcpy(&image->data[static_cast<size_t>(v) * k.width],
-                &flipped[static_cast<size_t>(k.height - 1 - v) * k.width], k.width * sizeof(T));
+  glReadPixels(0, 0, k.width, k.height, format, type, image->data.data());
+  for (int v = 0; v < k.height / 2; ++v) {
+    T* top = &image->data[static_cast<size_t>(v) * k.width];
+    std::swap_ranges(top, top + k.width,
+                     &image->data[static_cast<size_t>(k.height - 1 - v) * k.width]);
   }
 }
 

@@ -45,8 +45,9 @@ struct OcclusionNodeOptions {
   // waits replaces it, counted (real time: replay.launch realtime:=true sets it); false: culled
   // in the subscriber callback, queueing (lockstep runs and slow replays keep every cloud).
   bool newest_wins = false;
-  // [s wall] how long to wait for the estimate of the previous cloud (tf tanker -> receiver at
-  // its stamp): in lockstep it is on its way, and waiting makes runs repeatable.
+  // [s wall] how long to wait for the estimate of the previous cloud (its aar/pose_estimate, then,
+  // if it had a pose, tf tanker -> receiver at its stamp): in lockstep it is on its way, and
+  // waiting makes runs repeatable.
   double estimate_wait = 0.2;
   // Where the predicted pose comes from: false, the latest estimate as it stands (tf tanker ->
   // receiver; the thesis); true, the latest aar/pose_estimate moved on to the cloud's stamp by
@@ -88,7 +89,7 @@ class OcclusionNode {
   OcclusionNodeOptions options_;
   tf2_ros::Buffer tf_buffer_;
   tf2_ros::TransformListener tf_listener_;
-  std::unique_ptr<aar_ros_common::EstimateListener> estimates_;  // extrapolate_estimate only
+  std::unique_ptr<aar_ros_common::EstimateListener> estimates_;  // when a pose is predicted
   ros::Publisher filtered_pub_, boom_pub_, reference_pub_, markers_pub_;
   ros::Subscriber cloud_sub_;
   diagnostic_updater::Updater diagnostics_;
