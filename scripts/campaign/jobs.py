@@ -25,6 +25,8 @@ def task(out, index):
     flights, stopping = [], []
 
     def cancelled(signum, frame):  # scancel, or the time limit: end the graph, say so
+        if not stopping:  # at once: Slurm kills what is left after its KillWait
+            say(f"{run.key}: {signal.Signals(signum).name}: stopping the run (cancelled)")
         stopping.append(signum)
         for f in flights:
             f.stop()
