@@ -44,10 +44,18 @@ class Campaign:
 
 
 def refuse_existing(out):
-    """A new campaign may not reuse a campaign's folder: its results would mix."""
+    """A new campaign may not reuse a campaign's folder (its results would mix), nor a folder
+    with anything else in it (a campaign writes and deletes files in its folder)."""
     if os.path.exists(os.path.join(out, RECORD)):
         raise Refused(f"'{out}' holds a campaign already: resume it with scripts/run --resume "
                       f"{out}, or choose another --out")
+    held = sorted(os.listdir(out)) if os.path.isdir(out) else []
+    if held:
+        raise Refused(f"'{out}' is not empty ({', '.join(held[:3])}{' ...' if held[3:] else ''})"
+                      f": a campaign writes and deletes files in its folder; choose a new or "
+                      f"empty --out")
+    if os.path.exists(out) and not os.path.isdir(out):
+        raise Refused(f"'{out}' is a file, not a folder: choose another --out")
 
 
 class Lock:

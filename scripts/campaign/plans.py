@@ -42,7 +42,14 @@ CHECK_EXPERIMENT = os.path.join(ROOT, "src/aar_ros_common/scripts/check_experime
 def _experiments(value, kind):
     """The experiments named, each a file of config/experiments/ whose namespaces are the
     stages' (check_experiment.py, which the launch file runs too)."""
-    names = [e for e in (value or DEFAULT_EXPERIMENTS[kind]).split(",") if e]
+    names = (DEFAULT_EXPERIMENTS[kind] if value is None else value).split(",")
+    if not all(names):
+        raise Refused(f"--experiments '{value}' has an empty name (available: "
+                      f"{','.join(_names('config/experiments'))})")
+    twice = sorted({e for e in names if names.count(e) > 1})
+    if twice:
+        raise Refused(f"--experiments '{value}' names {', '.join(twice)} twice: each experiment "
+                      f"flies once a path")
     for e in names:
         path = os.path.join(ROOT, "config/experiments", e + ".yaml")
         if not os.path.isfile(path):

@@ -26,6 +26,9 @@ TEST(SuiteScript, BadArgumentsAreNamedAndRefused) {
       {"--suite 2 --jobs 999", "(this machine's cores), not '999'"},
       {"--suite 2 --jobs 0", "(this machine's cores), not '0'"},
       {"--suite 2 --experiments naive,nonsense", "no experiment 'nonsense' in config/experiments/"},
+      {"--suite 2 --experiments naive,naive", "--experiments 'naive,naive' names naive twice"},
+      {"--suite 2 --experiments ,", "--experiments ',' has an empty name"},
+      {"--suite 2 --experiments ''", "--experiments '' has an empty name"},
       {"--suite 2 --rate -1", "--rate takes a positive number of frames per second, not '-1'"},
       {"--suite 2 --noise x", "--noise takes a sigma in grey levels (>= 0), not 'x'"},
       {"--suite 2 --sim-config /nonexistent.yaml",
@@ -125,6 +128,27 @@ TEST(RunScript, BadReceiverIsNamedAndRefused) {
   EXPECT_NE(r.output.find("--start-time 9999 is outside the flight path's [0, 50.8] s"),
             std::string::npos)
       << r.output;
+}
+
+// --out at a folder with someone's files in it, or at a file, is refused before anything is
+// written there (a campaign writes and deletes files in its folder); the files are kept.
+TEST(RunScript, AnOutThatHoldsOtherFilesIsRefusedAndKept) {
+  const std::string run = aar_testing::WorkspaceRoot() + "/scripts/run --no-build --frames 5";
+  const std::string out = "/tmp/aar_run_script_kept";
+  aar_testing::RunCommand("rm -rf " + out + " && mkdir -p " + out + "/naive && echo mine > " + out +
+                          "/naive/notes.txt");
+  auto r = aar_testing::RunCommand(run + " --out " + out);
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_NE(r.output.find("'" + out + "' is not empty (naive): a campaign writes and deletes"),
+            std::string::npos)
+      << r.output;
+  EXPECT_EQ(Read(out + "/naive/notes.txt"), "mine\n");
+  EXPECT_NE(aar_testing::RunCommand("test -e " + out + "/.lock").status, 0) << "written into";
+  r = aar_testing::RunCommand(run + " --out " + out + "/naive/notes.txt");
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_NE(r.output.find("is a file, not a folder"), std::string::npos) << r.output;
+  EXPECT_EQ(Read(out + "/naive/notes.txt"), "mine\n");
+  aar_testing::RunCommand("rm -rf " + out);
 }
 
 // scripts/realism: worlds that are not presets, a first world other than ideal, and the suite's
