@@ -6,7 +6,7 @@ import time
 
 from campaign import local, slurm, cluster
 from campaign.campaign import append_provenance
-from campaign.execute import is_done, reason_of
+from campaign.execute import is_done, reason_of, retried
 from campaign.progress import Progress
 from campaign.reports import write_reports
 from campaign.workspace import Refused, commit, fail, say, utc_now
@@ -16,6 +16,11 @@ def finish(campaign, engine, seconds, flown, interrupted=False):
     """Records the outcome in run.txt, writes the reports; returns 0 when complete."""
     missing = [r.key for r in campaign.runs if not is_done(r, campaign.out)]
     lines = [f"wall time: {seconds / 60:.1f} min for {flown} runs ({engine})"]
+    again = {r.key: retried(r, campaign.out) for r in campaign.runs}
+    again = {key: attempts for key, attempts in again.items() if attempts}
+    if again:  # a crash the retry made good is still a crash: said in run.txt and the reports
+        lines.append(f"runs that failed and were flown again ({len(again)}):")
+        lines += [f"  {key}: {'; '.join(attempts)}" for key, attempts in again.items()]
     if interrupted:
         lines.append("interrupted: the runs not finished are missing")
     if missing:

@@ -115,8 +115,12 @@ def execute(run, campaign_dir, port, stopping=lambda: False, on_flight=lambda f:
         if stopping():
             status["status"] = "interrupted"
             break
+        kept = _read(os.path.join(out, "launch.log")) if attempt > 1 else None
         shutil.rmtree(out, ignore_errors=True)
         os.makedirs(out)
+        if kept is not None:  # the failed attempt's log stays with the run, named
+            with open(os.path.join(out, f"launch.attempt{attempt - 1}.log"), "w") as f:
+                f.write(kept)
         flight = Flight(run, out, port)
         on_flight(flight)
         t0 = time.monotonic()
@@ -130,10 +134,15 @@ def execute(run, campaign_dir, port, stopping=lambda: False, on_flight=lambda f:
             status["status"] = "ok"
             break
         status["status"] = "interrupted" if stopping() else "failed"
+        status.setdefault("failed_attempts", []).append(
+            {"attempt": attempt, "recorded": rows, "exit": code,
+             "log": f"launch.attempt{attempt}.log"})
         reason = refusal(out)
         if reason:  # a stage refused to start: the same again on a retry
             status["reason"] = reason
             break
+    if status["status"] != "ok" and status.get("failed_attempts"):
+        status["failed_attempts"][-1]["log"] = "launch.log"  # the last attempt's is not renamed
     with open(os.path.join(out, "run.json"), "w") as f:
         json.dump(status, f, indent=1)
     return status
@@ -164,9 +173,35 @@ def refusal(out_dir):
     return ""
 
 
+def _read(path):
+    try:
+        with open(path, errors="replace") as f:
+            return f.read()
+    except OSError:
+        return None
+
+
+def failed_attempts(status):
+    """What each failed attempt of a run got to ("attempt 1: 123 of 300 frames, exit -9, its
+    log launch.attempt1.log"), for a run that was retried."""
+    return [f"attempt {a['attempt']}: {a['recorded']} of {status['frames']} frames, exit "
+            f"{a['exit']}, its log {a['log']}" for a in status.get("failed_attempts", [])]
+
+
+def retried(run, campaign_dir):
+    """A finished run's failed attempts (failed_attempts) from its run.json; [] if none."""
+    try:
+        with open(os.path.join(campaign_dir, run.key, "run.json")) as f:
+            status = json.load(f)
+    except (OSError, ValueError):
+        return []
+    return failed_attempts(status) if status.get("status") == "ok" else []
+
+
 def describe(status):
     if status["status"] == "ok":
-        retried = " (on its retry)" if status["attempts"] > 1 else ""
+        retried = (f" (on its retry; {'; '.join(failed_attempts(status))})"
+                   if status["attempts"] > 1 else "")
         return f"ok{retried}, {status['seconds']:.0f} s ({status['cpu_seconds']:.0f} s CPU)"
     why = f": {status['reason']}" if status.get("reason") else ""
     return (f"{status['status'].upper()} ({status.get('recorded', 0)} of {status['frames']} "

@@ -124,6 +124,36 @@ TEST(Campaign, AnInterruptedCampaignSaysHowToResumeAndResumes) {
   EXPECT_NE(md.find("| dynamic | 1 |"), std::string::npos) << md;
 }
 
+// A run whose processing manager dies (kill -9) once it is flying is flown again, and says so:
+// on the console, in run.txt and in the report, with the failed attempt's log kept beside it.
+TEST(Campaign, ARunFlownAgainAfterACrashIsNamedWithItsLog) {
+  const std::string out = "/tmp/aar_campaign_crash", run = out + "/approaches/01/naive";
+  aar_testing::RunCommand("rm -rf " + out);
+  // The manager: the child of the run's roslaunch (launch.log is written at the end, so the
+  // test watches the processes), killed 10 s after it started, mid-flight.
+  const std::string manager =
+      "for p in $(pgrep -f '^/usr/bin/python3 /usr/bin/roslaunch .*"
+      "output_dir:=" +
+      run +
+      " '); do pgrep -P $p -f '^/usr/lib/nodelet/nodelet manager'; "
+      "done | head -n 1";
+  auto r = aar_testing::RunCommand(
+      ScriptsRun("--suite 1 --experiments naive --rate 2 --jobs 1 --out " + out) +
+      " & pid=$!; for i in $(seq 1 300); do m=$(" + manager +
+      "); [ -n \"$m\" ] && break; sleep 0.5; done; sleep 10; kill -9 $m; wait $pid");
+  EXPECT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("ok (on its retry; attempt 1: "), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find(", its log launch.attempt1.log)"), std::string::npos) << r.output;
+  const std::string said =
+      "runs that failed and were flown again (1):\n  approaches/01/naive: "
+      "attempt 1: ";
+  EXPECT_NE(Read(out + "/run.txt").find(said), std::string::npos) << Read(out + "/run.txt");
+  EXPECT_NE(Read(out + "/suite.md").find(said), std::string::npos) << Read(out + "/suite.md");
+  EXPECT_NE(Read(run + "/launch.attempt1.log").find("process has died"), std::string::npos)
+      << "the crashed attempt's log is gone: " << Read(run + "/launch.attempt1.log");
+  EXPECT_NE(Read(run + "/launch.log").find("eval: wrote"), std::string::npos);
+}
+
 TEST(Campaign, ASuiteThroughSlurmEqualsTheLocalOne) {
   const std::string local = "/tmp/aar_campaign_local", slurm = "/tmp/aar_campaign_slurm";
   aar_testing::RunCommand("rm -rf " + local + " " + slurm);
