@@ -35,10 +35,10 @@ def main(argv):
         for e in a.extra:
             if ":=" not in e:
                 raise Refused(f"'{e}' is no launch argument NAME:=VALUE")
-        rate = float(a.rate) if a.rate else sim_rate()
+        rate = float(a.rate) if a.rate else sim_rate(a.sim_config or "")
         frames = frame_count(a.flight_path, rate, float(a.start_time) if a.start_time else None,
                              a.frames)
-    except (Refused, ValueError) as e:
+    except (Refused, ValueError, OSError) as e:  # OSError: an unreadable --sim-config
         fail(str(e))
     out = os.path.abspath(a.out)  # roslaunch's nodes run elsewhere: every path absolute
     run = Run(key=os.path.basename(out), experiment=a.experiment,

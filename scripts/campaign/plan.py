@@ -48,12 +48,22 @@ class Run:
                 "roslaunch", "-p", str(port), LAUNCH] + self.launch_args(out_dir)
 
 
-def sim_rate(sim_yaml=os.path.join(ROOT, "config/sim.yaml")):
-    """The simulator's frame rate, as the simulator reads it (its top-level `rate:`)."""
-    with open(sim_yaml) as f:
+def _top_level_rate(yaml):
+    with open(yaml) as f:
         for line in f:
             if line.startswith("rate:"):
                 return float(line.split()[1].split("#")[0])
+    return None
+
+
+def sim_rate(overlay="", sim_yaml=os.path.join(ROOT, "config/sim.yaml")):
+    """The simulator's frame rate, as the simulator reads it: the top-level `rate:` of the file
+    loaded over config/sim.yaml (`overlay`, pipeline.launch sim_config:=), if it sets one, else
+    config/sim.yaml's."""
+    for yaml in ([overlay] if overlay else []) + [sim_yaml]:
+        rate = _top_level_rate(yaml)
+        if rate is not None:
+            return rate
     raise Refused(f"{sim_yaml} has no top-level rate")
 
 

@@ -103,7 +103,7 @@ def _check_run(a, f):
     if f.start_time is not None:
         _match(f.start_time, r"[0-9]+(\.[0-9]+)?", "--start-time",
                "seconds of path time (e.g. 35 or 35.5)")
-    f.rate = sim_rate()
+    f.rate = sim_rate(f.sim_config)
     # Counted now: a start outside the path is refused before the build.
     frame_count(f.flight_path, f.rate, None if f.start_time is None else float(f.start_time),
                 f.frames)
@@ -124,7 +124,7 @@ def _check_suite(a, f):
     if a.rate:
         _match(a.rate, r"[0-9]+(\.[0-9]+)?", "--rate", "a positive number of frames per second",
                low=1e-9)
-    f.rate = float(a.rate) if a.rate else sim_rate()
+    f.rate = float(a.rate) if a.rate else sim_rate(f.sim_config)
     f.noise = _match(a.noise or "2.0", r"[0-9]+(\.[0-9]+)?", "--noise",
                      "a sigma in grey levels (>= 0)")
     stamp = utc_stamp()

@@ -130,6 +130,24 @@ TEST(RunScript, BadReceiverIsNamedAndRefused) {
       << r.output;
 }
 
+// A --sim-config that sets the simulator's rate counts the run's frames at that rate, as the
+// simulator flies them (they were counted at config/sim.yaml's 10 Hz: "30 of 59 frames").
+TEST(RunScript, ASimConfigsRateCountsTheFrames) {
+  const std::string out = "/tmp/aar_run_script_rate", yaml = "/tmp/aar_run_script_rate5.yaml";
+  aar_testing::RunCommand("echo 'rate: 5.0' > " + yaml);
+  const auto r = aar_testing::RunCommand(
+      "rm -rf " + out + " && cd " + aar_testing::WorkspaceRoot() +
+      " && /usr/bin/python3 -c 'import sys; sys.path.insert(0, \"scripts\"); from campaign "
+      "import cli, plans; plans.create(plans.check(\"run\", cli.parser(\"run\").parse_args("
+      "sys.argv[1:])))' --experiments naive --sim-config " +
+      yaml + " --out " + out);
+  ASSERT_EQ(r.status, 0) << r.output;
+  // The default approach, 0 to 50.8 s: 255 frames at 5 Hz (509 at 10 Hz).
+  const std::string runs = Read(out + "/campaign.json");
+  EXPECT_NE(runs.find("\"frames\": 255,"), std::string::npos) << runs;
+  aar_testing::RunCommand("rm -rf " + out + " " + yaml);
+}
+
 // --out at a folder with someone's files in it, or at a file, is refused before anything is
 // written there (a campaign writes and deletes files in its folder); the files are kept.
 TEST(RunScript, AnOutThatHoldsOtherFilesIsRefusedAndKept) {
