@@ -62,8 +62,11 @@ class Lock:
     """An exclusive lock on the campaign folder for as long as one driver works in it."""
 
     def __init__(self, out):
-        os.makedirs(out, exist_ok=True)
-        self.file = open(os.path.join(out, ".lock"), "a+")
+        try:
+            os.makedirs(out, exist_ok=True)
+            self.file = open(os.path.join(out, ".lock"), "a+")
+        except OSError as e:  # read-only, not a folder, no space, no permission
+            raise Refused(f"--out '{out}' cannot be written: {e.strerror}")
         try:
             fcntl.flock(self.file, fcntl.LOCK_EX | fcntl.LOCK_NB)
         except OSError:

@@ -149,7 +149,8 @@ TEST(RunScript, ASimConfigsRateCountsTheFrames) {
 }
 
 // --out at a folder with someone's files in it, or at a file, is refused before anything is
-// written there (a campaign writes and deletes files in its folder); the files are kept.
+// written there (a campaign writes and deletes files in its folder); the files are kept. So is
+// one that cannot be written.
 TEST(RunScript, AnOutThatHoldsOtherFilesIsRefusedAndKept) {
   const std::string run = aar_testing::WorkspaceRoot() + "/scripts/run --no-build --frames 5";
   const std::string out = "/tmp/aar_run_script_kept";
@@ -166,6 +167,13 @@ TEST(RunScript, AnOutThatHoldsOtherFilesIsRefusedAndKept) {
   EXPECT_EQ(r.status, 2) << r.output;
   EXPECT_NE(r.output.find("is a file, not a folder"), std::string::npos) << r.output;
   EXPECT_EQ(Read(out + "/naive/notes.txt"), "mine\n");
+  // A folder that cannot be made or written: named, no traceback.
+  r = aar_testing::RunCommand(run + " --out /proc/aar_run_script_test");
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_NE(r.output.find("--out '/proc/aar_run_script_test' cannot be written: "),
+            std::string::npos)
+      << r.output;
+  EXPECT_EQ(r.output.find("Traceback"), std::string::npos) << r.output;
   aar_testing::RunCommand("rm -rf " + out);
 }
 
