@@ -96,10 +96,11 @@ std::optional<Eigen::Isometry3d> OcclusionNode::Lookup(const std::string& frame,
 // after a miss there is no tf to wait for, and the latest older one is used at once.
 std::optional<Eigen::Isometry3d> OcclusionNode::PredictedPose(const ros::Time& stamp) {
   const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(options_.estimate_wait);
-  bool had_pose = true;
+  bool had_pose = true;  // unless its estimate came and said otherwise: its tf may still come
+  bool valid = false;
   if (previous_stamp_ && options_.estimate_wait > 0.0 &&
-      !estimates_->WaitFor(*previous_stamp_, options_.estimate_wait, &had_pose))
-    had_pose = true;  // not come: its tf may still
+      estimates_->WaitFor(*previous_stamp_, options_.estimate_wait, &valid))
+    had_pose = valid;
   if (options_.extrapolate_estimate) {
     const auto p = estimates_->Predict(stamp, options_.common.estimate_max_age);
     if (!p) return std::nullopt;
