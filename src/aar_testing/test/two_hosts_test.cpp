@@ -162,7 +162,11 @@ TEST(TwoHosts, PosesComeBackAcrossTheLinkAndARestartedPerceptionHostResumes) {
   EXPECT_GE(cloud, 5.0e4);  // measured 1.0e5 on these ranges (it grows toward contact)
   const double cloud_link =
       Number(s, "split cloud: link camera->perception ([0-9]+) bytes a frame");
-  EXPECT_GE(cloud_link, cloud);          // the cloud and tf, /clock, TCP/IP
+  // The cloud and tf, /clock, TCP/IP, so at least the cloud; but the link's bytes a frame are the
+  // window's bytes over the run's mean frame rate, and the cloud's size a mean over the frames
+  // its probe saw, not quite the same ones (it grows toward contact): a frame in about 20 (5 %).
+  // Measured 1.006 times the cloud (40 s windows, MULTI_HOST.md) and 0.994 (10 s, a CI run).
+  EXPECT_GE(cloud_link, 0.93 * cloud);
   EXPECT_LE(cloud_link, images / 10.0);  // measured 24 times less
   EXPECT_EQ(run.LeftBehind(), "");
 }
