@@ -72,7 +72,11 @@ class Flight:
         self.cpu_seconds = 0.0
 
     def fly(self):
-        env = dict(ros_env(), ROS_MASTER_URI=f"http://localhost:{self.port}")
+        # The run's master and every node are on this host: they find each other as localhost
+        # (a cluster node's own hostname may resolve to nothing, e.g. in a namespace of its own).
+        env = dict(ros_env(), ROS_MASTER_URI=f"http://localhost:{self.port}",
+                   ROS_HOSTNAME="localhost")
+        env.pop("ROS_IP", None)
         with open(os.path.join(self.out_dir, "launch.log"), "w") as log:
             # Lockstep: each frame waits for its estimate, so results do not depend on speed.
             self.proc = subprocess.Popen(self.run.command(self.out_dir, self.port), stdout=log,
@@ -105,12 +109,13 @@ class Flight:
                 pass
 
 
-def execute(run, campaign_dir, port, stopping=lambda: False, on_flight=lambda f: None):
+def execute(run, campaign_dir, port, stopping=lambda: False, on_flight=lambda f: None,
+            about=None):
     """Flies `run` (retried once on failure) into campaign_dir/run.key; returns its status dict,
-    also written to run.json there. roslaunch exits 0 even when a required node dies: the frame
-    count decides."""
+    also written to run.json there with `about` (e.g. the Slurm node). roslaunch exits 0 even
+    when a required node dies: the frame count decides."""
     out = os.path.join(campaign_dir, run.key)
-    status = {"status": "failed", "frames": run.frames, "attempts": 0}
+    status = {"status": "failed", "frames": run.frames, "attempts": 0, **(about or {})}
     for attempt in range(1, ATTEMPTS + 1):
         if stopping():
             status["status"] = "interrupted"
@@ -183,8 +188,13 @@ def _read(path):
 
 def failed_attempts(status):
     """What each failed attempt of a run got to ("attempt 1: 123 of 300 frames, exit -9, its
-    log launch.attempt1.log"), for a run that was retried."""
-    return [f"attempt {a['attempt']}: {a['recorded']} of {status['frames']} frames, exit "
+    log launch.attempt1.log"), for a run that was retried; first, a Slurm requeue (its node
+    lost), whose attempt's log the task kept in the campaign's slurm/ folder."""
+    requeued = status.get("slurm_restarts", 0)
+    lost = ([f"requeued by Slurm {requeued} time(s) (its node lost or the job preempted; the "
+             f"lost attempt's log in slurm/), then flown on {status.get('node', '?')}"]
+            if requeued else [])
+    return lost + [f"attempt {a['attempt']}: {a['recorded']} of {status['frames']} frames, exit "
             f"{a['exit']}, its log {a['log']}" for a in status.get("failed_attempts", [])]
 
 

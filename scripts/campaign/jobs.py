@@ -18,7 +18,11 @@ def task(out, index):
     if not 0 <= index < len(campaign.runs):
         raise Refused(f"task {index}: campaign {out} has runs 0 to {len(campaign.runs) - 1}")
     run = campaign.runs[index]
-    say(f"run {index}: {run.key}")
+    node = os.environ.get("SLURMD_NODENAME", "")
+    restarts = int(os.environ.get("SLURM_RESTART_COUNT", "0") or 0)
+    say(f"run {index}: {run.key}" + (f" on node {node}" if node else "") + (
+        f" (requeued {restarts} time(s): its node was lost or the job preempted)"
+        if restarts else ""))
     if is_done(run, out):
         say(f"{run.key}: done already")
         return 0
@@ -32,11 +36,24 @@ def task(out, index):
             f.stop()
     signal.signal(signal.SIGTERM, cancelled)
     signal.signal(signal.SIGINT, cancelled)
+    if restarts:
+        keep_lost_log(out, run, restarts)
     port = free_ports(1, seed=os.getpid() + 7 * index)[0]
-    status = execute(run, out, port, lambda: bool(stopping), flights.append)
+    about = {"node": node, "slurm_restarts": restarts} if node else None
+    status = execute(run, out, port, lambda: bool(stopping), flights.append, about)
     say(f"{run.key}: {run.frames} frames, {describe(status)}"
         f"{' (cancelled)' if stopping else ''}")
     return 0 if status["status"] == "ok" else 1
+
+
+def keep_lost_log(out, run, restarts):
+    """A requeued run's folder holds what its lost attempt wrote; its launch.log goes to
+    DIR/slurm/ (the run's folder is flown afresh) and is named."""
+    log = os.path.join(out, run.key, "launch.log")
+    if os.path.isfile(log):
+        kept = os.path.join(out, "slurm", f"{run.key.replace('/', '-')}.lost{restarts}.log")
+        os.replace(log, kept)
+        say(f"{run.key}: the lost attempt's log kept as {os.path.relpath(kept, out)}")
 
 
 def merge(out):

@@ -87,6 +87,7 @@ def submit(campaign, indices, partition, cpus_per_task, max_parallel):
         arrays.append(_slurm(common + [
             f"--array={spec}", f"--cpus-per-task={cpus_per_task}", f"--time={limit // 60 + 2}",
             "--job-name=aar-run", f"--output={folder}/%A-task-%a.log",
+            "--open-mode=append",  # a requeued task's log keeps its lost attempt's lines
             f"--wrap=exec {sys.executable} {DRIVER} task {campaign.out} "
             f"$(({base} + SLURM_ARRAY_TASK_ID))"], "sbatch (a job array)").split(";")[0])
     merge = _slurm(common + [

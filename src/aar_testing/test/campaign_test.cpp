@@ -154,10 +154,20 @@ TEST(Campaign, ARunFlownAgainAfterACrashIsNamedWithItsLog) {
   EXPECT_NE(Read(run + "/launch.log").find("eval: wrote"), std::string::npos);
 }
 
+// kSuite flown by the local engine into kLocal, once in this process; its output.
+const char* kLocal = "/tmp/aar_campaign_local";
+const aar_testing::CommandResult& LocalSuite() {
+  static const aar_testing::CommandResult r = [] {
+    aar_testing::RunCommand(std::string("rm -rf ") + kLocal);
+    return aar_testing::RunCommand(ScriptsRun(std::string(kSuite) + " --out " + kLocal));
+  }();
+  return r;
+}
+
 TEST(Campaign, ASuiteThroughSlurmEqualsTheLocalOne) {
-  const std::string local = "/tmp/aar_campaign_local", slurm = "/tmp/aar_campaign_slurm";
-  aar_testing::RunCommand("rm -rf " + local + " " + slurm);
-  auto r = aar_testing::RunCommand(ScriptsRun(std::string(kSuite) + " --out " + local));
+  const std::string local = kLocal, slurm = "/tmp/aar_campaign_slurm";
+  aar_testing::RunCommand("rm -rf " + slurm);
+  auto r = LocalSuite();
   ASSERT_EQ(r.status, 0) << r.output;
   // Progress as plain lines (not a terminal): runs and frames done of all, rate, time to go.
   const std::regex progress(
@@ -189,8 +199,11 @@ TEST(Campaign, ASuiteThroughSlurmEqualsTheLocalOne) {
   const std::string expected = Results(local);
   ASSERT_NE(expected.find("| dynamic | 2 |"), std::string::npos) << Read(local + "/suite.md");
   EXPECT_EQ(Results(slurm), expected);
-  // The cluster it brought up is gone.
+  // The cluster it brought up is gone, and its folder with it.
   EXPECT_NE(aar_testing::RunCommand("pgrep -f 'slurmctld -f /tmp/aar-slurm[.]'").status, 0);
+  std::smatch state;
+  if (std::regex_search(r.output, state, std::regex(R"(SLURM_CONF=(/tmp/aar-slurm\.\w+)/)")))
+    EXPECT_FALSE(Exists(state[1])) << state[1];
 }
 
 // A single-node cluster of the test's own, stopped however the test ends. MaxArraySize 1: each
@@ -207,6 +220,88 @@ struct Cluster {
     aar_testing::RunCommand(aar_testing::WorkspaceRoot() + "/scripts/slurm-local down " + dir);
   }
 };
+
+// scripts/slurm-local's wrong arguments: named, exit 2, nothing started.
+TEST(Campaign, SlurmLocalNamesBadArguments) {
+  const std::string script = aar_testing::WorkspaceRoot() + "/scripts/slurm-local ";
+  const struct {
+    std::string args, needle;
+  } cases[] = {
+      {"up /tmp/aar_slurm_bad --nodes 0", "--nodes needs a count from 1 to 99, not '0'"},
+      {"up /tmp/aar_slurm_bad --node 2", "up: unknown option '--node'"},
+      {"down /tmp", "'/tmp' is no cluster of scripts/slurm-local"},
+      {"down /tmp --kep", "down: unknown option '--kep'"},
+      {"kill /tmp 1", "'/tmp' is no multi-node cluster of scripts/slurm-local"},
+      {"start", "scripts/slurm-local up [DIR] [--nodes N]"},
+  };
+  for (const auto& c : cases) {
+    const auto r = aar_testing::RunCommand("timeout 60 " + script + c.args);
+    EXPECT_EQ(r.status, 2) << c.args << ": " << r.output;
+    EXPECT_NE(r.output.find(c.needle), std::string::npos) << c.args << ": " << r.output;
+  }
+  EXPECT_FALSE(Exists("/tmp/aar_slurm_bad"));
+}
+
+// Two compute nodes on this machine: each slurmd in network and UTS namespaces of its own
+// (aar-node1 and 2, 169.254.X.11 and .12, the controller on .1), munge's key and the workspace
+// shared. Node 2 is killed (every process, kill -9: a power cut) while it flies a run: Slurm marks
+// it down and requeues that run, which node 1 flies; suite.md equals the local engine's, no run
+// lost or counted twice.
+TEST(Campaign, ASuiteOnTwoNodesLosesANodeAndNothingElse) {
+  const std::string dir = "/tmp/aar_campaign_nodes_cluster", out = "/tmp/aar_campaign_nodes";
+  const std::string script = aar_testing::WorkspaceRoot() + "/scripts/slurm-local ";
+  aar_testing::RunCommand("rm -rf " + out + " " + dir);
+  struct Down {
+    std::string command;
+    ~Down() { aar_testing::RunCommand(command); }
+  } down{script + "down " + dir};
+  auto r = aar_testing::RunCommand("timeout 300 " + script + "up " + dir + " --nodes 2");
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_TRUE(std::regex_search(
+      r.output, std::regex(R"(up: nodes aar-node\[1-2\] \(169\.254\.[0-9]+\.11 on, 1 CPUs each)")))
+      << r.output;
+  const std::string env = "env SLURM_CONF=" + dir + "/slurm.conf ";
+  r = aar_testing::RunCommand(
+      env + ScriptsRun(std::string(kSuite) + " --engine slurm --no-wait --out " + out, 60));
+  ASSERT_EQ(r.status, 0) << r.output;
+  // Tasks 0 and 1 fly at once, one a node; 8 s into both, node 2 dies.
+  ASSERT_TRUE(WaitFor(out + "/approaches/01/naive/frames.csv", 120));
+  ASSERT_TRUE(WaitFor(out + "/approaches/01/dynamic/frames.csv", 120));
+  aar_testing::RunCommand("sleep 8");
+  const std::string on_node2 =
+      aar_testing::RunCommand("grep -l 'on node aar-node2$' " + out + "/slurm/*-task-*.log").output;
+  ASSERT_EQ(on_node2.find('\n'), on_node2.size() - 1) << "one task on node 2: " << on_node2;
+  r = aar_testing::RunCommand(script + "kill " + dir + " 2");
+  ASSERT_EQ(r.status, 0) << r.output;
+  // Down within 15 s and some; requeued, then held by Slurm about 2 minutes before it flies again.
+  ASSERT_TRUE(WaitFor(out + "/slurm/merge.json", 480)) << Read(dir + "/log/slurmctld.log");
+  EXPECT_NE(Read(out + "/slurm/merge.json").find("\"missing\": []"), std::string::npos)
+      << Read(out + "/slurm/merge.json");
+  EXPECT_EQ(aar_testing::RunCommand(env + "sinfo -h -n aar-node2 -o %T").output.substr(0, 4),
+            "down");
+  // The lost task is named where it ran again, with its lost attempt's log kept.
+  const std::string task = Read(on_node2.substr(0, on_node2.size() - 1));
+  std::smatch run;
+  ASSERT_TRUE(std::regex_search(task, run, std::regex(R"(run [0-9]: (approaches/0[12]/\w+) on)")))
+      << task;
+  EXPECT_TRUE(std::regex_search(
+      task, std::regex(run[1].str() + " on node aar-node1 \\(requeued 1 time\\(s\\)")))
+      << task;
+  EXPECT_NE(task.find(run[1].str() + ": the lost attempt's log kept as slurm/"), std::string::npos)
+      << task;
+  const std::string json = Read(out + "/" + run[1].str() + "/run.json");
+  EXPECT_NE(json.find("\"slurm_restarts\": 1"), std::string::npos) << json;
+  EXPECT_NE(json.find("\"node\": \"aar-node1\""), std::string::npos) << json;
+  EXPECT_NE(Read(out + "/run.txt").find(run[1].str() + ": requeued by Slurm 1 time(s)"),
+            std::string::npos)
+      << Read(out + "/run.txt");
+  const auto& local = LocalSuite();
+  ASSERT_EQ(local.status, 0) << local.output;
+  const std::string expected = Results(kLocal);
+  ASSERT_NE(expected.find("| dynamic | 2 |"), std::string::npos)
+      << Read(kLocal + std::string("/suite.md"));
+  EXPECT_EQ(Results(out), expected);
+}
 
 TEST(Campaign, ACancelledSlurmTaskIsNamedThenResumed) {
   const std::string out = "/tmp/aar_campaign_cancelled";
