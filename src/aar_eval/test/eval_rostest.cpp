@@ -5,6 +5,8 @@
 #include <fstream>
 #include <iterator>
 #include <mutex>
+#include <regex>
+#include <string>
 #include <thread>
 
 #include <aar_msgs/FrameOutcome.h>
@@ -37,8 +39,9 @@ std::string ReadText(const std::string& path) {
 
 // Frames 2..8: estimates for all but 4 and 8; stereo reports dropping 8 (stale). Another node
 // publishes an estimate 1 km off for frame 7 before the registration's (the test node, eval's
-// ~estimate_publisher): ignored and named. Each frame settles on its estimate, its drop, or
-// settle_after (1 s) after it came.
+// ~estimate_publisher): ignored and named; so is a forger's for frame 6 that writes the
+// registration's caller id into its connection header (named by its link's URI). Each frame settles
+// on its estimate, its drop, or settle_after (1 s) after it came.
 TEST(Eval, FrameWithoutEstimateIsAMissNotACrash) {
   ros::NodeHandle nh;
   ros::Publisher frames = nh.advertise<sensor_msgs::CameraInfo>("/stereo/left/camera_info", 10);
@@ -72,6 +75,21 @@ TEST(Eval, FrameWithoutEstimateIsAMissNotACrash) {
   ros::WallDuration(1.0).sleep();  // the truth transform reaches eval
 
   for (int k = 2; k <= 8; ++k) {
+    if (k == 6) {  // a forger writing the registration's caller id into its header
+      ASSERT_EQ(
+          std::system("python3 -c \"import rospy, time\n"
+                      "from aar_msgs.msg import PoseEstimate\n"
+                      "rospy.init_node('forger')\n"
+                      "p = rospy.Publisher('/aar/pose_estimate', PoseEstimate, queue_size=1, "
+                      "headers={'callerid': '/eval_misses'})\n"
+                      "t = time.time() + 10\n"
+                      "while p.get_num_connections() == 0 and time.time() < t: time.sleep(0.05)\n"
+                      "m = PoseEstimate(valid=True)\n"
+                      "m.header.stamp = rospy.Time(6); m.header.frame_id = 'tanker'\n"
+                      "m.pose.position.x = 1000.0; m.pose.orientation.w = 1.0\n"
+                      "p.publish(m); time.sleep(1.0)\""),
+          0);
+    }
     if (k == 7) {  // takes seconds: before the frame, which would be due by then
       ASSERT_EQ(std::system("rostopic pub -1 /aar/pose_estimate aar_msgs/PoseEstimate "
                             "'{header: {stamp: {secs: 7}, frame_id: tanker}, valid: true, pose: "
@@ -114,6 +132,7 @@ TEST(Eval, FrameWithoutEstimateIsAMissNotACrash) {
   EXPECT_NEAR(records[0].error[0], 0.1,
               1e-9);  // estimate minus truth along the receiver's x: -34.4 - -34.5
   EXPECT_EQ(records[0].region, aar_geometry::Region::kC);
+  EXPECT_NEAR(records[4].error[0], 0.1, 1e-9) << "the forger's estimate was taken";
   EXPECT_NEAR(records[5].error[0], 0.1, 1e-9) << "the intruder's estimate was taken";
   EXPECT_FALSE(records[6].estimated);
   // Frame 5's integrity is in its row; the others have none (levels of 0) and no alert.
@@ -134,6 +153,12 @@ TEST(Eval, FrameWithoutEstimateIsAMissNotACrash) {
   std::lock_guard<std::mutex> lock(mutex);
   EXPECT_NE(warnings.find("from /intruder, not from the registration (/eval_misses): ignored"),
             std::string::npos)
+      << warnings;
+  // The forger, named by its link's address and port, not by the caller id it wrote.
+  EXPECT_TRUE(std::regex_search(
+      warnings, std::regex("eval: another node is linked to /aar/pose_estimate at http://[^ ]+:"
+                           "[0-9]+/ \\(the master lists /eval_misses at http://[^ ]+:[0-9]+/\\): "
+                           "the estimate for 6\\.000000000 cannot be told from its: ignored")))
       << warnings;
 }
 

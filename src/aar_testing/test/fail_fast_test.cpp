@@ -2,10 +2,12 @@
 // parameter ends its process (the nodelet manager with it) and so the launch; an experiment
 // with a namespace no stage reads stops roslaunch before any node starts; the campaign driver
 // records the cause and does not retry what would fail the same way. Before, the manager stayed
-// up, every frame waited out the lockstep timeout (5 s) and the launch exited 0.
+// up, every frame waited out the lockstep timeout (5 s) and the launch exited 0. A forged
+// estimate ends a lockstep run too (issue 46).
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <regex>
 #include <string>
 
 #include "aar_testing/command.h"
@@ -31,6 +33,44 @@ std::string Write(const std::string& path, const std::string& text) {
 std::string Read(const std::string& path) {
   std::ifstream in(path);
   return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+// A forger on a run's own master, 8 s into a 60-frame run: for each frame it publishes an
+// estimate 1 km off at the frame's stamp, writing the registration's caller id (/aar_manager)
+// into its connection header. The simulator finds a second node linked to /aar/pose_estimate
+// (its address and port, not the name it gave) and ends the lockstep run, FATAL, naming it; the
+// driver records that line as the reason and does not retry; eval took none of its estimates.
+// Before: the run was "ok", 60 of 60 frames "estimated" with a mean |x| error of 760 m.
+TEST(FailFast, AForgedEstimateEndsTheLockstepRunNamingIt) {
+  const std::string out = "/tmp/aar_fail_fast_forged";
+  aar_testing::RunCommand("rm -rf " + out);
+  const std::string fly =
+      "timeout 300 python3 " + aar_testing::WorkspaceRoot() +
+      "/scripts/campaign fly --experiment naive --frames 60 --start-time 40 --flight-path " +
+      aar_testing::DefaultApproachPath() + " --out " + out;
+  const std::string port = "$(pgrep -af 'roslaunch -p [0-9]+ .*output_dir:=" + out +
+                           "( |$)' | grep -o -- '-p [0-9]*' | head -n 1 | cut -d' ' -f2)";
+  const auto r = aar_testing::RunCommand(
+      fly + " & pid=$!; for i in $(seq 1 120); do p=" + port +
+      "; [ -n \"$p\" ] && break; sleep 0.5; done; sleep 8; ROS_MASTER_URI=http://localhost:$p "
+      "ROS_HOSTNAME=localhost timeout 120 rosrun aar_testing forge_estimates.py /aar_manager "
+      "100; wait $pid");
+  EXPECT_EQ(r.status, 1) << r.output;
+  EXPECT_TRUE(std::regex_search(
+      r.output, std::regex("FAILED \\([0-9]+ of 60 frames, 1 attempt\\(s\\)\\): \\[FATAL\\] .*sim: "
+                           "frame loop stopped: another node publishes on /aar/pose_estimate "
+                           "\\(http://localhost:[0-9]+/; the master lists /aar_manager at "
+                           "http://localhost:[0-9]+/\\)")))
+      << r.output;
+  EXPECT_NE(r.output.find("forger: "), std::string::npos) << r.output;
+  std::smatch mean;
+  const std::string log = Read(out + "/launch.log");
+  ASSERT_TRUE(
+      std::regex_search(log, mean, std::regex(R"(eval: region all: .* mean \|x\| ([0-9.e+-]+) m)")))
+      << log;
+  EXPECT_LT(std::stod(mean[1]), 5.0) << "a forged estimate was taken: " << mean[0];  // 0.46 m
+  EXPECT_NE(Read(out + "/run.json").find("another node publishes on /aar/pose_estimate"),
+            std::string::npos);
 }
 
 TEST(FailFast, AStageRefusingAParameterEndsTheRunNamingTheKey) {

@@ -92,6 +92,10 @@ EvalNode::~EvalNode() {
     std::cout << "eval: " << evaluator_.frames_without_truth()
               << " frames had no truth and were left out\n";
   }
+  if (while_strangers_ > 0) {
+    std::cout << "eval: ignored " << while_strangers_ << " estimates while another node than "
+              << publisher_ << " was linked to the estimates' topic\n";
+  }
   for (const auto& [caller, n] : other_publishers_)
     std::cout << "eval: ignored " << n << " estimates from " << caller << " (not " << publisher_
               << ")\n";
@@ -177,10 +181,30 @@ bool EvalNode::FromExpectedPublisher(const std::string& publisher, const ros::Ti
   return false;
 }
 
+bool EvalNode::NoStranger(const ros::Time& stamp) {
+  if (!check_) check_.emplace(estimate_sub_.getTopic(), publisher_);
+  const std::vector<std::string> strangers = check_->Strangers();
+  if (strangers.empty()) return true;
+  if (while_strangers_++ % 100 == 0) {
+    std::string named;
+    for (const std::string& uri : strangers) named += (named.empty() ? "" : ", ") + uri;
+    ROS_ERROR_STREAM(
+        "eval: another node is linked to "
+        << estimate_sub_.getTopic() << " at " << named << " (the master lists " << publisher_
+        << " at " << (check_->node_uri().empty() ? std::string("no address") : check_->node_uri())
+        << "): the estimate for " << stamp << " cannot be told from its: ignored ("
+        << while_strangers_ << " so far)");
+  }
+  return false;
+}
+
 void EvalNode::OnEstimate(const ros::MessageEvent<aar_msgs::PoseEstimate const>& event) {
   const aar_msgs::PoseEstimate::ConstPtr& estimate = event.getConstMessage();
   std::lock_guard<std::mutex> lock(mutex_);
-  if (!FromExpectedPublisher(event.getPublisherName(), estimate->header.stamp)) return;
+  if (!FromExpectedPublisher(event.getPublisherName(), estimate->header.stamp) ||
+      !NoStranger(estimate->header.stamp)) {
+    return;
+  }
   if (estimate->valid && !Finite(*estimate)) {
     ROS_ERROR_STREAM("eval: estimate for " << estimate->header.stamp << " from "
                                            << event.getPublisherName()

@@ -145,12 +145,38 @@ void SimNode::Run() {
 
 void SimNode::Start() { thread_ = std::thread(&SimNode::Run, this); }
 
-void SimNode::OnEstimate(const aar_msgs::PoseEstimate::ConstPtr& msg) {
+void SimNode::OnEstimate(const ros::MessageEvent<aar_msgs::PoseEstimate const>& event) {
   {
     std::lock_guard<std::mutex> lock(mutex_);
-    if (msg->header.stamp > last_estimate_stamp_) last_estimate_stamp_ = msg->header.stamp;
+    if (!intrusion_.empty()) return;
+    intrusion_ = Intrusion(event.getPublisherName());
+    const ros::Time& stamp = event.getConstMessage()->header.stamp;
+    if (intrusion_.empty() && stamp > last_estimate_stamp_) last_estimate_stamp_ = stamp;
   }
   estimate_arrived_.notify_all();
+}
+
+std::string SimNode::Intrusion(const std::string& caller) {
+  if (!check_) {
+    const std::string node =
+        options_.estimate_publisher.empty() ? caller : options_.estimate_publisher;
+    if (options_.estimate_publisher.empty()) {
+      ROS_INFO_STREAM("sim: lockstep on the estimates of " << node
+                                                           << " (the first publisher "
+                                                              "heard; set ~estimate_publisher "
+                                                              "to name it)");
+    }
+    check_.emplace(estimate_sub_.getTopic(), node);
+  }
+  std::string named;
+  for (const std::string& uri : check_->Strangers()) named += (named.empty() ? "" : ", ") + uri;
+  if (caller != check_->node())
+    named += (named.empty() ? "" : ", ") + std::string("caller ") + caller;
+  if (named.empty()) return "";
+  return "another node publishes on " + estimate_sub_.getTopic() + " (" + named +
+         "; the master lists " + check_->node() + " at " +
+         (check_->node_uri().empty() ? std::string("no address") : check_->node_uri()) +
+         "): its estimates cannot be told from the registration's; stopping the lockstep run";
 }
 
 void SimNode::WaitToStart() const {
@@ -190,9 +216,10 @@ StereoFrame SimNode::RenderFrame(int k, double t, const FlightPathRow& row, cons
 
 bool SimNode::WaitForEstimate(int k, const ros::Time& stamp) {
   std::unique_lock<std::mutex> lock(mutex_);
-  const bool arrived =
-      estimate_arrived_.wait_for(lock, std::chrono::duration<double>(options_.lockstep_timeout),
-                                 [&] { return stop_ || last_estimate_stamp_ >= stamp; });
+  const bool arrived = estimate_arrived_.wait_for(
+      lock, std::chrono::duration<double>(options_.lockstep_timeout),
+      [&] { return stop_ || last_estimate_stamp_ >= stamp || !intrusion_.empty(); });
+  if (!intrusion_.empty()) throw std::runtime_error(intrusion_);
   if (!arrived) {
     ROS_WARN_STREAM("sim: no pose estimate for frame " << k << " (stamp " << stamp << ") within "
                                                        << options_.lockstep_timeout

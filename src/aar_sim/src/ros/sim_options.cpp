@@ -100,6 +100,7 @@ void LoadLoop(aar_ros_common::ParamReader& params, SimNodeOptions* o) {
   o->max_frames = params.Get("frames", o->max_frames);
   o->lockstep = params.Get("lockstep", o->lockstep);
   o->lockstep_timeout = params.Get("lockstep_timeout", o->lockstep_timeout);
+  o->estimate_publisher = params.Get("estimate_publisher", o->estimate_publisher);
   o->realtime_factor = params.Get("realtime_factor", o->realtime_factor);
   o->wait_for_subscribers = params.Get("wait_for_subscribers", o->lockstep);
   o->start_delay = params.Get("start_delay", o->start_delay);

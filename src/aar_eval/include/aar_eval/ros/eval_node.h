@@ -3,6 +3,7 @@
 #include <fstream>
 #include <map>
 #include <mutex>
+#include <optional>
 #include <string>
 
 #include <set>
@@ -11,6 +12,7 @@
 #include <aar_msgs/PoseEstimate.h>
 #include <aar_ros_common/error_throttle.h>
 #include <aar_ros_common/param_reader.h>
+#include <aar_ros_common/publisher_check.h>
 #include <ros/ros.h>
 #include <sensor_msgs/CameraInfo.h>
 #include <std_msgs/Header.h>
@@ -30,9 +32,10 @@ struct EvalNodeOptions {
   // [s wall] the longest a frame waits for its estimate or a stage's drop before it is settled
   // as a miss (the ledger then says where it was lost).
   double settle_after = 10.0;
-  // The caller id whose aar/pose_estimate is taken (the registration nodelet's manager, or the
-  // registration node); estimates from any other publisher are ignored and warned about.
-  // Empty: the first publisher heard is taken, and named.
+  // The node whose aar/pose_estimate is taken (the registration nodelet's manager, or the
+  // registration node); estimates from any other publisher are ignored and warned about, and
+  // while another node is linked to the topic (checked on the links themselves, whatever caller
+  // id it writes) none is taken. Empty: the first publisher heard is taken, and named.
   std::string estimate_publisher;
   // [s] truth is taken only from a sample this close to the frame's stamp: never interpolated
   // across an outage of the truth.
@@ -61,6 +64,9 @@ class EvalNode {
   void OnEstimate(const ros::MessageEvent<aar_msgs::PoseEstimate const>& event);
   // Whether an estimate from `publisher` is taken (the expected registration's).
   bool FromExpectedPublisher(const std::string& publisher, const ros::Time& stamp);
+  // Whether no other node is linked to aar/pose_estimate (else its estimates could carry the
+  // expected caller id); warns naming it.
+  bool NoStranger(const ros::Time& stamp);
   void OnOutcome(const aar_msgs::FrameOutcome::ConstPtr& outcome);
   void OnTf(const tf2_msgs::TFMessage::ConstPtr& tf);
   void Settle();                                          // mutex_ held
@@ -83,6 +89,8 @@ class EvalNode {
   std::string path_, ledger_path_;
   std::string publisher_;                             // whose estimates are taken
   std::map<std::string, uint64_t> other_publishers_;  // estimates ignored, per caller id
+  std::optional<aar_ros_common::PublisherCheck> check_;  // once publisher_ is known
+  uint64_t while_strangers_ = 0;  // estimates ignored while another node was linked
   std::mutex truth_mutex_;
   std::set<int64_t> truth_stamps_;  // of the truth samples heard on /tf
   bool truth_static_ = false;       // the truth came on /tf_static

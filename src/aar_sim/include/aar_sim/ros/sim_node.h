@@ -4,12 +4,14 @@
 #include <condition_variable>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <thread>
 #include <utility>
 
 #include <aar_msgs/PoseEstimate.h>
 #include <aar_ros_common/param_reader.h>
+#include <aar_ros_common/publisher_check.h>
 #include <image_transport/image_transport.h>
 #include <ros/ros.h>
 #include <tf2_ros/static_transform_broadcaster.h>
@@ -29,6 +31,10 @@ struct SimNodeOptions {
   int max_frames = 0;             // 0: to the end of the path
   bool lockstep = false;          // wait for /aar/pose_estimate of each frame before the next
   double lockstep_timeout = 5.0;  // [s wall] then go on and count a miss
+  // Lockstep: the node whose estimates are the go-ahead (the registration's manager or node;
+  // empty: the first publisher heard). Another node linked to the topic, whatever caller id it
+  // writes, stops the frame loop (FATAL, naming it): its estimates could not be told apart.
+  std::string estimate_publisher;
   // Free-running: seconds of path time per wall second (1: real time; below 1 the flight and its
   // clock run slower, for a machine or a build that cannot keep up).
   double realtime_factor = 1.0;
@@ -76,7 +82,9 @@ class SimNode {
   bool WaitForEstimate(int k, const ros::Time& stamp);  // lockstep; false: timed out (warned)
   void PublishFrame(int index, const FlightPathRow& row, const BoomPose& boom,
                     const StereoFrame& frame, const ros::Time& stamp);
-  void OnEstimate(const aar_msgs::PoseEstimate::ConstPtr& msg);
+  void OnEstimate(const ros::MessageEvent<aar_msgs::PoseEstimate const>& event);
+  // Why estimates cannot be trusted ("" if they can): another node linked to the topic.
+  std::string Intrusion(const std::string& caller);
   // The path's row and boom pose at t [s] (the boom from the row, else DefaultBoomPose()) with
   // the turbulence applied: what is rendered and published as truth.
   std::pair<FlightPathRow, BoomPose> StateAt(double t) const;
@@ -97,6 +105,8 @@ class SimNode {
   std::mutex mutex_;
   std::condition_variable estimate_arrived_;
   ros::Time last_estimate_stamp_;
+  std::optional<aar_ros_common::PublisherCheck> check_;  // once the publisher is known
+  std::string intrusion_;  // set once: the frame loop stops on it
   std::atomic<bool> stop_{false}, finished_{false}, failed_{false};
   std::thread thread_;
 };

@@ -1,0 +1,37 @@
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace aar_ros_common {
+
+// Who publishes on a topic this node subscribes to, read from the connections themselves: the
+// XML-RPC URI of each publisher this node's subscription is linked to (the address and port it
+// was given by the master and connected to), not the caller id a sender writes into its own
+// connection header, which any node can forge. Only `node` may publish: the URI the master lists
+// for it is looked up when needed (again when a link does not match it: a respawned node has a
+// new port). ROS 1 proves no more than this: a node that registers under `node`'s own name takes
+// its place at the master, and the master shuts the old one down (see docs/MULTI_HOST.md).
+class PublisherCheck {
+ public:
+  // `topic`: resolved (e.g. "/aar/pose_estimate"); `node`: e.g. "/aar_manager".
+  PublisherCheck(std::string topic, std::string node);
+
+  // The publishers linked to `topic` that are not `node`, each as "URI" (empty: none). A URI the
+  // master cannot be asked about counts as no match.
+  std::vector<std::string> Strangers();
+
+  const std::string& node() const { return node_; }
+  const std::string& node_uri() const { return node_uri_; }  // as last looked up ("" if never)
+
+ private:
+  bool LookUp();  // the master's URI for node_; false if it could not say
+
+  std::string topic_, node_, node_uri_;
+};
+
+// The XML-RPC URIs of the publishers this process's subscriptions to `topic` are linked to (one
+// per link; intra-process links give this process's own URI).
+std::vector<std::string> LinkedPublishers(const std::string& topic);
+
+}  // namespace aar_ros_common
