@@ -716,6 +716,12 @@ TEST(Config, OutlineOffByDefaultBadValuesRefused) {
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("needs track: true"), std::string::npos) << e.what();
   }
+  // A misspelt `trak: true` is named as an unknown key, not as the outline needing tracking.
+  ros::NodeHandle misspelt("/registration_outline_trak");
+  misspelt.setParam("outline", true);
+  misspelt.setParam("trak", true);
+  ExpectRefusedByName(misspelt, "trak",
+                      [&] { aar_registration::LoadRegistrationNodeOptions(misspelt); });
 }
 
 }  // namespace

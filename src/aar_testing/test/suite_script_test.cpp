@@ -213,9 +213,15 @@ TEST(ScriptArguments, BadNumbersAreNamedAndRefusedAtOnce) {
   const struct {
     std::string command, needle;
   } cases[] = {
-      {"replay " + bag + " --rate 0", "replay: --rate takes a number above 0, not '0'"},
-      {"replay " + bag + " --rate abc", "replay: --rate takes a number above 0, not 'abc'"},
-      {"replay " + bag + " --rate -1", "replay: --rate takes a number above 0, not '-1'"},
+      {"replay " + bag + " --rate 0",
+       "replay: --rate takes a number above 0 and at most 100, not '0'"},
+      {"replay " + bag + " --rate abc",
+       "replay: --rate takes a number above 0 and at most 100, not 'abc'"},
+      {"replay " + bag + " --rate -1",
+       "replay: --rate takes a number above 0 and at most 100, not '-1'"},
+      // A number, but far beyond what rosbag and the graph keep up with (was "not a number").
+      {"replay " + bag + " --rate 1e9",
+       "replay: --rate takes a number above 0 and at most 100, not '1e9'"},
       {"make-sample-bag --frames 0",
        "make-sample-bag: --frames takes a whole number of at least 1, not '0'"},
       {"make-sample-bag --start x", "make-sample-bag: --start takes a number of at least 0"},

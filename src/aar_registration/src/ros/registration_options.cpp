@@ -230,7 +230,6 @@ RegistrationNodeOptions LoadRegistrationNodeOptions(aar_ros_common::ParamReader&
   LoadSeedAndGate(params, r);
   r.tracker = LoadTrackerOptions(params, r.tracker);
   r.outline = LoadOutlineOptions(params, r.outline);
-  params.Check(!r.outline.enabled || r.track, "outline", "needs track: true");
   r.persistent_error.pixel_sigma =
       params.GetNonNegative("persistent_pixel_sigma", r.persistent_error.pixel_sigma);
   r.integrity = LoadIntegrityOptions(params, r.integrity);
@@ -243,6 +242,9 @@ RegistrationNodeOptions LoadRegistrationNodeOptions(aar_ros_common::ParamReader&
   o.max_stamp_lead = params.GetNonNegative("max_stamp_lead", o.max_stamp_lead);
 
   params.RejectUnknown();
+  // Rules across keys after the unknown ones: a misspelt `trak:` is named as such, not as
+  // "outline needs track".
+  params.Check(!r.outline.enabled || r.track, "outline", "needs track: true");
   return o;
 }
 
