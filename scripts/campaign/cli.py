@@ -140,7 +140,10 @@ def main(argv):
     except Refused as e:
         cluster.stop(started)
         fail(str(e))
-    return drive.drive(campaign, a, started)
+    try:
+        return drive.drive(campaign, a, started)
+    except KeyboardInterrupt:  # after the runs (they handle their own); said where it came
+        return 130
 
 
 if __name__ == "__main__":

@@ -28,8 +28,16 @@ def finish(campaign, engine, seconds, flown, interrupted=False):
         reasons = {r.key: reason_of(r, campaign.out) for r in campaign.runs if r.key in missing}
         lines += [f"  {key}: {why}" for key, why in reasons.items() if why]
     append_provenance(campaign, lines)
-    path, ok = write_reports(campaign)
-    say(f"wrote {path}")
+    try:
+        path, ok = write_reports(campaign, complete=not missing)
+    except KeyboardInterrupt:
+        say(f"interrupted while writing the reports (the step running was stopped); "
+            f"scripts/run --resume {campaign.out} writes them", error=True)
+        raise
+    if not ok:
+        say(f"{path}: not every report step succeeded (above)", error=True)
+    else:
+        say(f"wrote {path}")
     if missing or not ok:
         say(f"incomplete: {len(missing)} of {len(campaign.runs)} runs failed or missing"
             f"{': ' + ', '.join(missing[:12]) if missing else ''}"

@@ -1,6 +1,7 @@
 """The reports a campaign ends with, by kind: report.md (one path), suite.md (approaches), and
 worlds.md (realism). The same code runs after local runs, in Slurm's merge job and on resume."""
 import os
+import signal
 import subprocess
 import sys
 
@@ -11,10 +12,22 @@ SUITE_BASELINES = "naive,no_boom,culling_only,dynamic_reference_only"
 
 
 def _call(cmd, log=None):
+    """Runs a report step; on Ctrl-C or SIGTERM (KeyboardInterrupt) it is asked to stop (SIGINT:
+    a capture ends its roslaunch and nodes) and waited for, then the interrupt goes on."""
     out = open(log, "w") if log else None
     try:
-        return subprocess.run(cmd, env=ros_env(), stdout=out, stderr=subprocess.STDOUT if log
-                              else None, stdin=subprocess.DEVNULL).returncode
+        p = subprocess.Popen(cmd, env=ros_env(), stdout=out, stderr=subprocess.STDOUT if log
+                             else None, stdin=subprocess.DEVNULL)
+        try:
+            return p.wait()
+        except KeyboardInterrupt:
+            p.send_signal(signal.SIGINT)
+            try:
+                p.wait(timeout=90)
+            except subprocess.TimeoutExpired:
+                p.kill()
+                p.wait()
+            raise
     finally:
         if out:
             out.close()
@@ -27,8 +40,9 @@ def _stanford_diagrams(out, experiments):
         say("Stanford diagrams failed", error=True)
 
 
-def write_reports(campaign):
-    """Writes the kind's reports; returns the main one's path and whether all were written."""
+def write_reports(campaign, complete=True):
+    """Writes the kind's reports; returns the main one's path and whether all were written.
+    With runs missing (not `complete`) the rviz captures are skipped: the report is not whole."""
     experiments = ",".join(campaign.experiments)
     out = campaign.out
     if campaign.kind == "run":
@@ -37,13 +51,18 @@ def write_reports(campaign):
             say("plots failed", error=True)
         _stanford_diagrams(out, experiments)
         # Headless rviz captures of the sample bag (a C-12 flight; other receivers go without).
-        if campaign.notes.get("captures"):
-            if _call([os.path.join(ROOT, "scripts/capture"), os.path.join(
-                    ROOT, "rosbags/sample_contact.bag"), "--frames", "6,15", "--out",
-                    os.path.join(out, "captures"), "--no-build"], os.path.join(out, "capture.log")):
+        captured = True
+        if campaign.notes.get("captures") and not complete:
+            say("rviz captures skipped: runs are missing", error=True)
+        elif campaign.notes.get("captures"):
+            captured = _call([os.path.join(ROOT, "scripts/capture"), os.path.join(
+                ROOT, "rosbags/sample_contact.bag"), "--frames", "6,15", "--out",
+                os.path.join(out, "captures"), "--no-build"],
+                os.path.join(out, "capture.log")) == 0
+            if not captured:
                 say(f"rviz captures failed (log: {out}/capture.log)", error=True)
         ok = _call([tool("aar_eval", "make_report"), out, experiments, "naive"]) == 0
-        return os.path.join(out, "report.md"), ok
+        return os.path.join(out, "report.md"), ok and captured
     ok = True
     for unit in campaign.units:
         unit_dir = os.path.normpath(os.path.join(out, unit))

@@ -154,6 +154,32 @@ TEST(Campaign, ARunFlownAgainAfterACrashIsNamedWithItsLog) {
   EXPECT_NE(Read(run + "/launch.log").find("eval: wrote"), std::string::npos);
 }
 
+// Ctrl-C while the reports are written (rviz captures of the sample bag, about 30 s): the
+// capture stops with everything it started, the driver says how to get the reports and exits
+// 130, no traceback (it was a KeyboardInterrupt traceback, and roslaunch, the master, the
+// manager, the players and capture_frames.py ran on). A run with a missing frame skips them.
+TEST(Campaign, CtrlCWhileTheReportsAreWrittenLeavesNothingRunning) {
+  const std::string out = "/tmp/aar_campaign_reports_interrupted";
+  aar_testing::RunCommand("rm -rf " + out);
+  auto r = aar_testing::RunCommand(ScriptsRun("--frames 20 --experiments naive --out " + out));
+  ASSERT_EQ(r.status, 0) << r.output;
+  ASSERT_NE(r.output.find("wrote " + out + "/report.md"), std::string::npos) << r.output;
+  // --resume of a finished campaign writes the reports again; SIGINT 12 s in, mid-capture.
+  r = aar_testing::RunCommand("timeout -s INT 12 " + aar_testing::WorkspaceRoot() +
+                              "/scripts/run --resume " + out + " --no-build");
+  EXPECT_EQ(r.status, 124) << r.output;  // timeout's own: it sent the signal
+  EXPECT_NE(r.output.find("interrupted while writing the reports (the step running was "
+                          "stopped); scripts/run --resume " +
+                          out + " writes them"),
+            std::string::npos)
+      << r.output;
+  EXPECT_EQ(r.output.find("Traceback"), std::string::npos) << r.output;
+  EXPECT_LT(r.seconds, 60.0) << r.output;  // 12 s, then the capture's stop
+  const std::string mine = "[" + out.substr(0, 1) + "]" + out.substr(1);  // not the shell's own
+  EXPECT_NE(aar_testing::RunCommand("pgrep -f '" + mine + "'").status, 0)
+      << "left running: " << aar_testing::RunCommand("pgrep -af '" + mine + "'").output;
+}
+
 // kSuite flown by the local engine into kLocal, once in this process; its output.
 const char* kLocal = "/tmp/aar_campaign_local";
 const aar_testing::CommandResult& LocalSuite() {

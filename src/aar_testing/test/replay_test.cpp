@@ -266,6 +266,34 @@ TEST(Capture, AFullDiskIsNamedNotWaitedOut) {
   EXPECT_LT(r.seconds, 120.0 * kScale);  // measured 14 s; the capture's own limit is 300 s
 }
 
+// More frames than the bag holds is refused before anything starts (it waited out its own 3,117 s
+// limit for frame 999 of 30); SIGINT (Ctrl-C) 20 s into a capture stops it and everything it
+// started (it was deferred until roslaunch ended by itself: timeout keeps roslaunch in a
+// process group of its own, which the signal never reached).
+TEST(Capture, MoreFramesThanTheBagAndCtrlCAreAnsweredAtOnce) {
+  const std::string out = ::testing::TempDir() + "/capture_interrupted";
+  std::filesystem::remove_all(out);
+  const std::string bag = kRoot + "/rosbags/sample_contact.bag";
+  Result r = Sh(Timeout(60) + kRoot + "/scripts/capture --no-build " + bag +
+                " --frames 6,999 --out " + out);
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_NE(
+      r.output.find("capture: --frames asks for frame 999, but '" + bag + "' holds 30 frames"),
+      std::string::npos)
+      << r.output;
+  EXPECT_LT(r.seconds, 10.0 * kScale);  // measured 1.2 s
+  EXPECT_FALSE(std::filesystem::exists(out));
+  r = Sh("timeout -s INT 20 " + kRoot + "/scripts/capture --no-build " + bag +
+         " --frames 15 --out " + out);
+  EXPECT_NE(r.output.find("capture: SIGINT: stopped (roslaunch and its nodes ended"),
+            std::string::npos)
+      << r.output;
+  EXPECT_LT(r.seconds, 60.0 * kScale);  // measured 26.6 s (20 s, then 1.6 s); before: 165 s
+  const std::string mine = "[" + out.substr(0, 1) + "]" + out.substr(1);  // not the shell's own
+  EXPECT_NE(Sh("pgrep -f '" + mine + "'").status, 0)
+      << "left running: " << Sh("pgrep -af '" + mine + "'").output;
+}
+
 TEST(Capture, ScreenshotShowsTheConfiguredColours) {
   const std::string out = ::testing::TempDir() + "/capture_sample";
   std::filesystem::remove_all(out);
