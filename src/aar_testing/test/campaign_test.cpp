@@ -211,8 +211,9 @@ TEST(Campaign, ASuiteThroughSlurmEqualsTheLocalOne) {
   r = aar_testing::RunCommand("env -u SLURM_CONF " +
                               ScriptsRun(std::string(kSuite) + " --engine slurm --out " + slurm));
   ASSERT_EQ(r.status, 0) << r.output;
-  if (!Exists("/etc/slurm/slurm.conf"))
+  if (!Exists("/etc/slurm/slurm.conf")) {
     EXPECT_NE(r.output.find("bringing up a single-node one"), std::string::npos) << r.output;
+  }
   EXPECT_NE(r.output.find("4 runs submitted to Slurm as job array"), std::string::npos) << r.output;
   EXPECT_TRUE(std::regex_search(r.output, progress)) << "the queue's progress: " << r.output;
   for (int task = 0; task < 4; ++task) {
@@ -228,8 +229,9 @@ TEST(Campaign, ASuiteThroughSlurmEqualsTheLocalOne) {
   // The cluster it brought up is gone, and its folder with it.
   EXPECT_NE(aar_testing::RunCommand("pgrep -f 'slurmctld -f /tmp/aar-slurm[.]'").status, 0);
   std::smatch state;
-  if (std::regex_search(r.output, state, std::regex(R"(SLURM_CONF=(/tmp/aar-slurm\.\w+)/)")))
+  if (std::regex_search(r.output, state, std::regex(R"(SLURM_CONF=(/tmp/aar-slurm\.\w+)/)"))) {
     EXPECT_FALSE(Exists(state[1])) << state[1];
+  }
 }
 
 // A single-node cluster of the test's own, stopped however the test ends. MaxArraySize 1: each
