@@ -68,8 +68,9 @@ bool PublisherCheck::LookUp() {
 std::vector<std::string> PublisherCheck::Strangers() {
   const std::vector<std::string> linked = LinkedPublishers(topic_);
   const auto unknown = [&](const std::string& uri) { return uri != node_uri_; };
-  // Asked again only when a link does not match: the node may have moved (a respawn).
-  if (std::any_of(linked.begin(), linked.end(), unknown) && !LookUp()) node_uri_.clear();
+  // Asked again only when a link does not match: the node may have moved (a respawn). A master
+  // that cannot answer (restarting) leaves the URI it gave last.
+  if (std::any_of(linked.begin(), linked.end(), unknown)) LookUp();
   std::vector<std::string> strangers;
   std::copy_if(linked.begin(), linked.end(), std::back_inserter(strangers), unknown);
   return strangers;

@@ -17,15 +17,16 @@ class PublisherCheck {
   // `topic`: resolved (e.g. "/aar/pose_estimate"); `node`: e.g. "/aar_manager".
   PublisherCheck(std::string topic, std::string node);
 
-  // The publishers linked to `topic` that are not `node`, each as "URI" (empty: none). A URI the
-  // master cannot be asked about counts as no match.
+  // The publishers linked to `topic` that are not `node`, each as "URI" (empty: none). While the
+  // master cannot be asked (restarting), `node` is where it was last.
   std::vector<std::string> Strangers();
 
   const std::string& node() const { return node_; }
   const std::string& node_uri() const { return node_uri_; }  // as last looked up ("" if never)
 
  private:
-  bool LookUp();  // the master's URI for node_; false if it could not say
+  bool
+  LookUp();  // the master's URI for node_ into node_uri_; false (unchanged) if it could not say
 
   std::string topic_, node_, node_uri_;
 };
