@@ -222,6 +222,10 @@ TEST(ScriptArguments, BadNumbersAreNamedAndRefusedAtOnce) {
       // A number, but far beyond what rosbag and the graph keep up with (was "not a number").
       {"replay " + bag + " --rate 1e9",
        "replay: --rate takes a number above 0 and at most 100, not '1e9'"},
+      // A flight path is no live run's frames.csv (was "0 of 29 frames compared").
+      {"replay " + bag + " --compare " + aar_testing::DefaultApproachPath(),
+       "is not eval's frames.csv of a live run (its columns: t,x,y,z,roll,pitch,yaw; a flight "
+       "path?)"},
       {"make-sample-bag --frames 0",
        "make-sample-bag: --frames takes a whole number of at least 1, not '0'"},
       {"make-sample-bag --start x", "make-sample-bag: --start takes a number of at least 0"},
