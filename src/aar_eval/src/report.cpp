@@ -3,9 +3,13 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <map>
+#include <regex>
 #include <sstream>
 #include <stdexcept>
+#include <string>
+#include <vector>
 
 #include "aar_eval/integrity.h"
 #include "aar_eval/tables.h"
@@ -68,8 +72,51 @@ struct CoverageRow {
   const std::map<std::string, RegionStats>* stats;
 };
 
+// The run the campaign driver planned for experiment `e` (DIR/e/run.json: "frames", "status"),
+// frames 0 when there is no record.
+struct PlannedRun {
+  int frames = 0;
+  std::string status;
+};
+PlannedRun ReadPlannedRun(const std::string& dir, const std::string& e) {
+  std::ifstream in(dir + "/" + e + "/run.json");
+  const std::string json((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  PlannedRun run;
+  std::smatch m;
+  if (std::regex_search(json, m, std::regex(R"re("frames":\s*([0-9]+))re")))
+    run.frames = std::stoi(m[1]);
+  if (std::regex_search(json, m, std::regex(R"re("status":\s*"([a-z]+)")re"))) run.status = m[1];
+  return run;
+}
+
+// What the region tables leave out, against the plan: frames outside the regions (in no
+// table), and a run that flew fewer frames than planned (its tables cover only those).
+void WriteCoverageNotes(std::ostream& out, const std::string& dir, Experiments& x) {
+  std::vector<std::string> notes;
+  for (const auto& e : x.done) {
+    const auto& records = x.records[e];
+    const auto outside = std::count_if(records.begin(), records.end(), [](const FrameRecord& f) {
+      return f.region == aar_geometry::Region::kOutside;
+    });
+    if (outside > 0) {
+      notes.push_back(e + ": " + std::to_string(outside) + " of " + std::to_string(records.size()) +
+                      " frames outside the regions (a range under 32 m or over 175 m, or not "
+                      "finite), in no table");
+    }
+    const PlannedRun planned = ReadPlannedRun(dir, e);
+    if (planned.frames > static_cast<int>(records.size())) {
+      notes.push_back("**" + e + ": " + std::to_string(records.size()) + " of " +
+                      std::to_string(planned.frames) + " planned frames flown** (run " +
+                      (planned.status.empty() ? std::string("unfinished") : planned.status) +
+                      "; why: the Run section); its tables cover only those");
+    }
+  }
+  for (const auto& note : notes) out << "- " << note << "\n";
+  if (!notes.empty()) out << "\n";
+}
+
 // Estimated of all frames per region, and the miss policy if an experiment missed frames.
-void WriteCoverage(std::ostream& out, Experiments& x) {
+void WriteCoverage(std::ostream& out, const std::string& dir, Experiments& x) {
   out << "## Coverage\n\nFrames with an estimate of this frame, of all frames, per region.\n\n";
   Columns<CoverageRow> columns = {
       {"experiment", Align::kLeft, [](const CoverageRow& r) { return r.experiment; }}};
@@ -85,6 +132,7 @@ void WriteCoverage(std::ostream& out, Experiments& x) {
   WriteTableHead(out, columns);
   for (const auto& e : x.done) WriteTableRow(out, columns, CoverageRow{e, &x.stats[e]});
   out << "\n";
+  WriteCoverageNotes(out, dir, x);
   if (x.any_miss) {
     out << "Miss policy: a frame without an estimate of its own is a miss. It is in no average "
            "of the tables below; the section \"As published\" scores instead what a live "
@@ -193,7 +241,7 @@ ReportResult WriteReport(const ReportOptions& options) {
 
   std::ofstream out(result.path);
   WriteIntroduction(out, options.dir);
-  WriteCoverage(out, x);
+  WriteCoverage(out, options.dir, x);
   if (!x.baseline.empty()) WriteHeadline(out, x);
   WriteErrorTables(out, x);
   const IntegrityOptions integrity{options.protection_level_scale};

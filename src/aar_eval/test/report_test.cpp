@@ -110,6 +110,33 @@ TEST(Report, EveryFrameEstimatedIsSaidAndHasNoMissSection) {
   std::filesystem::remove_all(dir);
 }
 
+// Coverage against the plan (issue 46): frames outside the regions were left out of every table
+// without a word, and a failed run's coverage counted only the frames it flew ("123 / 123" of a
+// 300-frame plan). Now each gets a line under the coverage table.
+TEST(Report, FramesOutsideTheRegionsAndAShortRunAreNamed) {
+  const std::string dir = testing::TempDir() + "/aar_eval_report_plan";
+  std::filesystem::remove_all(dir);
+  for (const char* e : {"naive", "dynamic"}) std::filesystem::create_directories(dir + "/" + e);
+  FrameRecord far = Frame(0.9, 0.3);
+  far.range_m = 235.0;
+  far.region = aar_geometry::Region::kOutside;
+  WriteFrameCsv(dir + "/naive/frames.csv", {far, Frame(1.0, 0.4), Frame(1.1, 0.4)});
+  WriteFrameCsv(dir + "/dynamic/frames.csv", {Frame(1.0, 0.2)});
+  std::ofstream(dir + "/naive/run.json") << "{\"status\": \"ok\", \"frames\": 3}";
+  std::ofstream(dir + "/dynamic/run.json") << "{\n \"status\": \"failed\",\n \"frames\": 3,\n}";
+  const std::string report = Read(WriteReport({dir, {"naive", "dynamic"}, "naive"}).path);
+  EXPECT_NE(report.find("- naive: 1 of 3 frames outside the regions (a range under 32 m or over "
+                        "175 m, or not finite), in no table"),
+            std::string::npos)
+      << report;
+  EXPECT_NE(report.find("- **dynamic: 1 of 3 planned frames flown** (run failed; why: the Run "
+                        "section); its tables cover only those"),
+            std::string::npos)
+      << report;
+  EXPECT_EQ(report.find("naive: 3 of 3 planned"), std::string::npos) << report;
+  std::filesystem::remove_all(dir);
+}
+
 // A full disk (report.md on /dev/full, which refuses every write with ENOSPC): the report was
 // once a 0-byte file and exit 0, the write being buffered past the check. Now an error naming it;
 // the same for frames.csv.
