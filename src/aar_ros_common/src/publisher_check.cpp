@@ -76,4 +76,14 @@ std::vector<std::string> PublisherCheck::Strangers() {
   return strangers;
 }
 
+std::vector<std::string> PublisherCheck::StrangersIfChanged(uint32_t links, double recheck) {
+  const auto now = std::chrono::steady_clock::now();
+  if (links != 0 && links == clean_links_ && now < clean_until_) return {};
+  std::vector<std::string> strangers = Strangers();
+  clean_links_ = strangers.empty() ? links : 0;
+  clean_until_ = now + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                           std::chrono::duration<double>(recheck));
+  return strangers;
+}
+
 }  // namespace aar_ros_common

@@ -183,7 +183,8 @@ bool EvalNode::FromExpectedPublisher(const std::string& publisher, const ros::Ti
 
 bool EvalNode::NoStranger(const ros::Time& stamp) {
   if (!check_) check_.emplace(estimate_sub_.getTopic(), publisher_);
-  const std::vector<std::string> strangers = check_->Strangers();
+  const std::vector<std::string> strangers =
+      check_->StrangersIfChanged(estimate_sub_.getNumPublishers());
   if (strangers.empty()) return true;
   if (while_strangers_++ % 100 == 0) {
     std::string named;

@@ -1,5 +1,7 @@
 #pragma once
 
+#include <chrono>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -21,6 +23,13 @@ class PublisherCheck {
   // master cannot be asked (restarting), `node` is where it was last.
   std::vector<std::string> Strangers();
 
+  // Strangers(), read again only when the subscription's link count (`links`, from
+  // ros::Subscriber::getNumPublishers, which costs nothing) differs from the last count found
+  // clean, or `recheck` [s wall] after that read: a link added is seen on its first message, a
+  // link swapped for another at the same count within `recheck`. Reading the links is an
+  // XML-RPC call to this node; per message it slowed a loaded machine's eval.
+  std::vector<std::string> StrangersIfChanged(uint32_t links, double recheck = 1.0);
+
   const std::string& node() const { return node_; }
   const std::string& node_uri() const { return node_uri_; }  // as last looked up ("" if never)
 
@@ -29,6 +38,8 @@ class PublisherCheck {
   LookUp();  // the master's URI for node_ into node_uri_; false (unchanged) if it could not say
 
   std::string topic_, node_, node_uri_;
+  uint32_t clean_links_ = 0;  // the link count last found clean (0: none yet)
+  std::chrono::steady_clock::time_point clean_until_;
 };
 
 // The XML-RPC URIs of the publishers this process's subscriptions to `topic` are linked to (one

@@ -169,7 +169,8 @@ std::string SimNode::Intrusion(const std::string& caller) {
     check_.emplace(estimate_sub_.getTopic(), node);
   }
   std::string named;
-  for (const std::string& uri : check_->Strangers()) named += (named.empty() ? "" : ", ") + uri;
+  for (const std::string& uri : check_->StrangersIfChanged(estimate_sub_.getNumPublishers()))
+    named += (named.empty() ? "" : ", ") + uri;
   if (caller != check_->node())
     named += (named.empty() ? "" : ", ") + std::string("caller ") + caller;
   if (named.empty()) return "";

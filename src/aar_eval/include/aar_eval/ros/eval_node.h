@@ -87,8 +87,8 @@ class EvalNode {
   std::map<int64_t, std_msgs::Header> estimate_headers_;  // for aar/pose_error
   std::ofstream out_, ledger_out_;
   std::string path_, ledger_path_;
-  std::string publisher_;                             // whose estimates are taken
-  std::map<std::string, uint64_t> other_publishers_;  // estimates ignored, per caller id
+  std::string publisher_;                                // whose estimates are taken
+  std::map<std::string, uint64_t> other_publishers_;     // estimates ignored, per caller id
   std::optional<aar_ros_common::PublisherCheck> check_;  // once publisher_ is known
   uint64_t while_strangers_ = 0;  // estimates ignored while another node was linked
   std::mutex truth_mutex_;

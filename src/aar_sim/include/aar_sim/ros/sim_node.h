@@ -106,7 +106,7 @@ class SimNode {
   std::condition_variable estimate_arrived_;
   ros::Time last_estimate_stamp_;
   std::optional<aar_ros_common::PublisherCheck> check_;  // once the publisher is known
-  std::string intrusion_;  // set once: the frame loop stops on it
+  std::string intrusion_;                                // set once: the frame loop stops on it
   std::atomic<bool> stop_{false}, finished_{false}, failed_{false};
   std::thread thread_;
 };
