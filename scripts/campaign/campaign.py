@@ -7,7 +7,7 @@ import os
 import shutil
 
 from campaign.plan import Run
-from campaign.workspace import ROOT, Refused, commit, machine, utc_now
+from campaign.workspace import ROOT, Refused, commit, machine, utc_now, write_file
 
 RECORD = "campaign.json"
 
@@ -23,11 +23,7 @@ class Campaign:
     notes: dict        # kind-specific settings the reports and run.txt need
 
     def save(self):
-        record = dataclasses.asdict(self)
-        tmp = os.path.join(self.out, RECORD + ".tmp")
-        with open(tmp, "w") as f:
-            json.dump(record, f, indent=1)
-        os.replace(tmp, os.path.join(self.out, RECORD))
+        write_file(os.path.join(self.out, RECORD), json.dumps(dataclasses.asdict(self), indent=1))
 
     @staticmethod
     def load(out):
@@ -62,6 +58,7 @@ class Lock:
     """An exclusive lock on the campaign folder for as long as one driver works in it."""
 
     def __init__(self, out):
+        self.out = out
         try:
             os.makedirs(out, exist_ok=True)
             self.file = open(os.path.join(out, ".lock"), "a+")
@@ -74,9 +71,12 @@ class Lock:
             holder = self.file.read().strip() or "another process"
             raise Refused(f"'{out}' is in use by another campaign driver ({holder}); wait for "
                           f"it or choose another --out")
-        self.file.truncate(0)
-        self.file.write(f"pid {os.getpid()}\n")
-        self.file.flush()
+        try:
+            self.file.truncate(0)
+            self.file.write(f"pid {os.getpid()}\n")
+            self.file.flush()
+        except OSError as e:
+            raise Refused(f"--out '{out}' cannot be written: {e.strerror}")
 
 
 def copy_configuration(unit_dir, experiments, extra):
@@ -96,16 +96,17 @@ def copy_configuration(unit_dir, experiments, extra):
 
 
 def write_provenance(unit_dir, command, lines):
-    with open(os.path.join(unit_dir, "run.txt"), "w") as f:
-        f.write(f"date (UTC): {utc_now()}\ncommit: {commit()}\ncommand: {command}\n"
-                f"machine: {machine()}\n")
-        for line in lines:
-            f.write(line + "\n")
-        f.write("configuration: config/ as copied into this folder\n")
+    write_file(os.path.join(unit_dir, "run.txt"),
+               f"date (UTC): {utc_now()}\ncommit: {commit()}\ncommand: {command}\n"
+               f"machine: {machine()}\n" + "".join(line + "\n" for line in lines) +
+               "configuration: config/ as copied into this folder\n")
 
 
 def append_provenance(campaign, lines):
     for unit in campaign.units:
-        with open(os.path.join(campaign.out, unit, "run.txt"), "a") as f:
-            for line in lines:
-                f.write(line + "\n")
+        path = os.path.join(campaign.out, unit, "run.txt")
+        try:
+            with open(path, "a") as f:
+                f.write("".join(line + "\n" for line in lines))
+        except OSError as e:  # a failed close names no file
+            raise OSError(e.errno, e.strerror, path) from None

@@ -8,7 +8,7 @@ import sys
 
 from campaign import cluster, drive, plans, slurm, workspace
 from campaign.campaign import Campaign, Lock, refuse_existing
-from campaign.workspace import Refused, fail
+from campaign.workspace import Refused, fail, os_error, say
 
 DEFAULTS = {
     "run": "no_boom,naive,static_wings_nose,dynamic,flight",
@@ -95,6 +95,19 @@ def check_engine(a):
 
 
 def main(argv):
+    try:
+        return _main(argv)
+    except OSError as e:  # the driver's own files: a full or read-only disk, named, no traceback
+        out = HELD[0].out if HELD else None
+        if out and os.path.isfile(os.path.join(out, "campaign.json")):
+            hint = f"; what is recorded in {out} is kept: make room, then scripts/run --resume {out}"
+        elif out:
+            hint = f"; nothing was flown: make room, remove {out} and run again"
+        say(f"{os_error(e)}{hint if out else ''}", error=True)
+        return 1
+
+
+def _main(argv):
     if argv and argv[0] in ("task", "merge"):
         from campaign import jobs
         return jobs.main(argv)

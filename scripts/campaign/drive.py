@@ -9,7 +9,7 @@ from campaign.campaign import append_provenance
 from campaign.execute import is_done, reason_of, retried
 from campaign.progress import Progress
 from campaign.reports import write_reports
-from campaign.workspace import Refused, commit, fail, say, utc_now
+from campaign.workspace import Refused, commit, fail, say, utc_now, write_file
 
 
 def finish(campaign, engine, seconds, flown, interrupted=False):
@@ -38,11 +38,15 @@ def finish(campaign, engine, seconds, flown, interrupted=False):
         say(f"{path}: not every report step succeeded (above)", error=True)
     else:
         say(f"wrote {path}")
-    if missing or not ok:
-        say(f"incomplete: {len(missing)} of {len(campaign.runs)} runs failed or missing"
-            f"{': ' + ', '.join(missing[:12]) if missing else ''}"
-            f"{' ...' if len(missing) > 12 else ''}{'' if ok else '; a report failed'}; "
-            f"fly what is missing with: scripts/run --resume {campaign.out}", error=True)
+    if missing:
+        say(f"incomplete: {len(missing)} of {len(campaign.runs)} runs failed or missing: "
+            f"{', '.join(missing[:12])}{' ...' if len(missing) > 12 else ''}"
+            f"{'' if ok else '; a report failed'}; fly what is missing with: "
+            f"scripts/run --resume {campaign.out}", error=True)
+        return 1
+    if not ok:
+        say(f"incomplete: every run is done, but a report failed; scripts/run --resume "
+            f"{campaign.out} writes the reports again", error=True)
         return 1
     return 0
 
@@ -115,5 +119,5 @@ def _drive_slurm(campaign, a, todo, start, started, progress):
 
 def record_merge(campaign, status, report):
     missing = [r.key for r in campaign.runs if not is_done(r, campaign.out)]
-    with open(os.path.join(campaign.out, "slurm", "merge.json"), "w") as f:
-        json.dump({"status": status, "report": report, "missing": missing}, f)
+    write_file(os.path.join(campaign.out, "slurm", "merge.json"),
+               json.dumps({"status": status, "report": report, "missing": missing}))

@@ -10,7 +10,7 @@ import subprocess
 import threading
 import time
 
-from campaign.workspace import ros_env
+from campaign.workspace import os_error, ros_env, write_file
 
 ATTEMPTS = 2  # a failed run is retried once, then named in the report
 
@@ -124,8 +124,7 @@ def execute(run, campaign_dir, port, stopping=lambda: False, on_flight=lambda f:
         shutil.rmtree(out, ignore_errors=True)
         os.makedirs(out)
         if kept is not None:  # the failed attempt's log stays with the run, named
-            with open(os.path.join(out, f"launch.attempt{attempt - 1}.log"), "w") as f:
-                f.write(kept)
+            write_file(os.path.join(out, f"launch.attempt{attempt - 1}.log"), kept)
         flight = Flight(run, out, port)
         on_flight(flight)
         t0 = time.monotonic()
@@ -148,8 +147,10 @@ def execute(run, campaign_dir, port, stopping=lambda: False, on_flight=lambda f:
             break
     if status["status"] != "ok" and status.get("failed_attempts"):
         status["failed_attempts"][-1]["log"] = "launch.log"  # the last attempt's is not renamed
-    with open(os.path.join(out, "run.json"), "w") as f:
-        json.dump(status, f, indent=1)
+    try:
+        write_file(os.path.join(out, "run.json"), json.dumps(status, indent=1))
+    except OSError as e:  # not recorded is not done: the run is flown again on --resume
+        status.update(status="failed", reason=f"its record could not be written: {os_error(e)}")
     return status
 
 

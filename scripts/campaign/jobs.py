@@ -10,7 +10,7 @@ from campaign import workspace
 from campaign.campaign import Campaign
 from campaign.drive import finish, record_merge
 from campaign.execute import describe, execute, is_done
-from campaign.workspace import Refused, free_ports, say
+from campaign.workspace import Refused, free_ports, os_error, say
 
 
 def task(out, index):
@@ -82,3 +82,6 @@ def main(argv):
     except Refused as e:
         print(f"{workspace.PROG}: {e}", file=sys.stderr)
         return 2
+    except OSError as e:  # a full or read-only disk: named in the task's log
+        print(f"{workspace.PROG}: {os_error(e)}", file=sys.stderr)
+        return 1

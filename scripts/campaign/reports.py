@@ -1,6 +1,7 @@
 """The reports a campaign ends with, by kind: report.md (one path), suite.md (approaches), and
 worlds.md (realism). The same code runs after local runs, in Slurm's merge job and on resume."""
 import os
+import re
 import signal
 import subprocess
 import sys
@@ -34,10 +35,23 @@ def _call(cmd, log=None):
 
 
 def _stanford_diagrams(out, experiments):
-    """DIR/plots/<experiment>_stanford.png of a run or a suite (plot_integrity.py)."""
+    """DIR/plots/<experiment>_stanford.png of a run or a suite (plot_integrity.py); whether they
+    were written."""
     if _call([sys.executable, os.path.join(ROOT, "src/aar_eval/scripts/plot_integrity.py"),
               out, experiments]):
-        say("Stanford diagrams failed", error=True)
+        say("Stanford diagrams failed (above)", error=True)
+        return False
+    return True
+
+
+def _why(log):
+    """The last line of a report step's log that says what went wrong, or ""."""
+    try:
+        with open(log, errors="replace") as f:
+            lines = [s.strip() for s in f if "FATAL" in s or "rror" in s or "cannot" in s]
+    except OSError:
+        return ""
+    return ": " + re.sub(r"^\[FATAL\] \[[^]]*\]: ", "", lines[-1])[:300] if lines else ""
 
 
 def write_reports(campaign, complete=True):
@@ -46,10 +60,11 @@ def write_reports(campaign, complete=True):
     experiments = ",".join(campaign.experiments)
     out = campaign.out
     if campaign.kind == "run":
-        if _call([sys.executable, os.path.join(ROOT, "src/aar_eval/scripts/plot_errors.py"),
-                  out, experiments]):
-            say("plots failed", error=True)
-        _stanford_diagrams(out, experiments)
+        plotted = _call([sys.executable, os.path.join(
+            ROOT, "src/aar_eval/scripts/plot_errors.py"), out, experiments]) == 0
+        if not plotted:
+            say("plots failed (above)", error=True)
+        plotted &= _stanford_diagrams(out, experiments)
         # Headless rviz captures of the sample bag (a C-12 flight; other receivers go without).
         captured = True
         if campaign.notes.get("captures") and not complete:
@@ -60,13 +75,14 @@ def write_reports(campaign, complete=True):
                 os.path.join(out, "captures"), "--no-build"],
                 os.path.join(out, "capture.log")) == 0
             if not captured:
-                say(f"rviz captures failed (log: {out}/capture.log)", error=True)
+                log = os.path.join(out, "capture.log")
+                say(f"rviz captures failed{_why(log)} (log: {log})", error=True)
         ok = _call([tool("aar_eval", "make_report"), out, experiments, "naive"]) == 0
-        return os.path.join(out, "report.md"), ok and captured
+        return os.path.join(out, "report.md"), ok and captured and plotted
     ok = True
     for unit in campaign.units:
         unit_dir = os.path.normpath(os.path.join(out, unit))
-        _stanford_diagrams(unit_dir, experiments)
+        ok &= _stanford_diagrams(unit_dir, experiments)
         ok &= _call([tool("aar_eval", "make_report"), "--suite", unit_dir, experiments,
                      SUITE_BASELINES]) == 0
     if campaign.kind == "suite":

@@ -11,7 +11,7 @@ import sys
 import time
 
 from campaign.execute import is_done
-from campaign.workspace import ROOT, Refused, say
+from campaign.workspace import ROOT, Refused, say, write_file
 
 DRIVER = os.path.join(ROOT, "scripts/campaign")
 POLL_SECONDS = 5
@@ -96,9 +96,9 @@ def submit(campaign, indices, partition, cpus_per_task, max_parallel):
         f"--output={folder}/%j-merge.log",
         f"--wrap=exec {sys.executable} {DRIVER} merge {campaign.out}"],
         "sbatch (the merge job)").split(";")[0]
-    with open(os.path.join(folder, "jobs.json"), "w") as f:
-        json.dump({"arrays": arrays, "array_size": size, "merge": merge, "indices": indices,
-                   "submitted": time.time()}, f)
+    write_file(os.path.join(folder, "jobs.json"), json.dumps(
+        {"arrays": arrays, "array_size": size, "merge": merge, "indices": indices,
+         "submitted": time.time()}))
     return arrays, merge
 
 

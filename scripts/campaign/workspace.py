@@ -12,6 +12,29 @@ class Refused(Exception):
     """Bad input, named: the driver prints it and exits 2 before anything runs."""
 
 
+def write_file(path, text):
+    """Writes `text` to `path` whole or not at all (through a temporary file and a rename): a
+    full disk leaves the old file or none, never a truncated one. Raises OSError."""
+    tmp = path + ".tmp"
+    try:
+        with open(tmp, "w") as f:
+            f.write(text)
+        os.replace(tmp, path)
+    except OSError as e:
+        try:
+            os.remove(tmp)
+        except OSError:
+            pass
+        raise OSError(e.errno, e.strerror, path) from None  # a failed close names no file
+
+
+def os_error(e):
+    """An OSError as one line naming the file: "PATH: No space left on device" (a copy's
+    destination, not its source)."""
+    path = e.filename2 or e.filename
+    return f"{path}: {e.strerror}" if path else (e.strerror or str(e))
+
+
 def fail(message, code=2):
     print(f"{PROG}: {message}", file=sys.stderr)
     sys.exit(code)

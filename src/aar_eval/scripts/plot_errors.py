@@ -8,15 +8,8 @@ import math
 import os
 import sys
 
-
-
-def pyplot():
-    """matplotlib's pyplot (Agg), imported only when there is something to draw: a run that failed
-    before its first frame ends without its second of start-up."""
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot
-    return matplotlib.pyplot
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))  # also through rosrun's relay
+import figures  # noqa: E402
 
 
 def main():
@@ -30,7 +23,7 @@ def main():
         if not os.path.exists(path):
             print(f"plot_errors: {path} is missing, no plots for '{experiment}'", file=sys.stderr)
             continue
-        plt = plt or pyplot()
+        plt = plt or figures.pyplot()
         with open(path) as f:
             rows = [r for r in csv.DictReader(f) if r["estimated"] == "1"]
         ranges = [float(r["range_m"]) for r in rows]
@@ -53,8 +46,8 @@ def main():
                 if math.isfinite(limit) and limit > 0:
                     ax.set_ylim(-1.05 * limit, 1.05 * limit)
             fig.tight_layout()
-            fig.savefig(os.path.join(out_dir, "plots", f"{experiment}_{kind}.png"))
-            plt.close(fig)
+            figures.save(fig, os.path.join(out_dir, "plots", f"{experiment}_{kind}.png"),
+                         "plot_errors")
     print(f"plot_errors: plots in {os.path.join(out_dir, 'plots')}")
 
 

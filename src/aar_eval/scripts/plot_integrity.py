@@ -21,8 +21,11 @@ import math
 import os
 import sys
 
-# matplotlib and numpy, imported by load_plotting only when there is something to draw: a run
-# that failed before its first frame ends without their second of start-up.
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))  # also through rosrun's relay
+import figures  # noqa: E402
+
+# matplotlib and numpy, imported by load_plotting only when there is something to draw
+# (figures.pyplot).
 plt = LogNorm = np = None
 
 
@@ -30,12 +33,9 @@ def load_plotting():
     global plt, LogNorm, np
     if plt is not None:
         return
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot
     import matplotlib.colors
     import numpy
-    plt, LogNorm, np = matplotlib.pyplot, matplotlib.colors.LogNorm, numpy
+    plt, LogNorm, np = figures.pyplot(), matplotlib.colors.LogNorm, numpy
 
 NEEDED = ("region", "estimated", "x_m", "y_m", "z_m", "roll_deg", "pitch_deg", "yaw_deg",
           "pl_position_m", "pl_attitude_deg", "al_position_m", "al_attitude_deg", "alert")
@@ -186,8 +186,8 @@ def main():
         fig.suptitle(f"{experiment}: Stanford diagrams ({len(frames)} frames{runs})")
         fig.tight_layout()
         os.makedirs(os.path.join(out_dir, "plots"), exist_ok=True)
-        fig.savefig(os.path.join(out_dir, "plots", f"{experiment}_stanford.png"))
-        plt.close(fig)
+        figures.save(fig, os.path.join(out_dir, "plots", f"{experiment}_stanford.png"),
+                     "plot_integrity")
         written += 1
     print(f"plot_integrity: {written} Stanford diagrams in {os.path.join(out_dir, 'plots')}")
 

@@ -34,4 +34,11 @@ void WriteRunSection(std::ostream& out, const std::string& dir) {
     out << "## Run\n\n```\n" << run.rdbuf() << "```\n\n";
 }
 
+std::string OutsideRegionsNote(const std::string& experiment, size_t outside, size_t frames) {
+  if (outside == 0) return "";
+  return experiment + ": " + std::to_string(outside) + " of " + std::to_string(frames) +
+         " frames outside the regions (a range under 32 m or over 175 m, or not finite), in no "
+         "table";
+}
+
 }  // namespace aar_eval

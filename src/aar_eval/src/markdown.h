@@ -57,4 +57,7 @@ std::string Fixed(double value, int digits);
 // "## Run" and DIR/run.txt in a code block, if DIR has a run.txt that is not empty.
 void WriteRunSection(std::ostream& out, const std::string& dir);
 
+// "E: N of M frames outside the regions (...), in no table", or "" when N is 0.
+std::string OutsideRegionsNote(const std::string& experiment, size_t outside, size_t frames);
+
 }  // namespace aar_eval

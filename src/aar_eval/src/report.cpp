@@ -15,6 +15,7 @@
 #include "aar_eval/tables.h"
 #include "integrity_section.h"
 #include "markdown.h"
+#include "run_record.h"
 
 namespace aar_eval {
 
@@ -72,23 +73,6 @@ struct CoverageRow {
   const std::map<std::string, RegionStats>* stats;
 };
 
-// The run the campaign driver planned for experiment `e` (DIR/e/run.json: "frames", "status"),
-// frames 0 when there is no record.
-struct PlannedRun {
-  int frames = 0;
-  std::string status;
-};
-PlannedRun ReadPlannedRun(const std::string& dir, const std::string& e) {
-  std::ifstream in(dir + "/" + e + "/run.json");
-  const std::string json((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  PlannedRun run;
-  std::smatch m;
-  if (std::regex_search(json, m, std::regex(R"re("frames":\s*([0-9]+))re")))
-    run.frames = std::stoi(m[1]);
-  if (std::regex_search(json, m, std::regex(R"re("status":\s*"([a-z]+)")re"))) run.status = m[1];
-  return run;
-}
-
 // What the region tables leave out, against the plan: frames outside the regions (in no
 // table), and a run that flew fewer frames than planned (its tables cover only those).
 void WriteCoverageNotes(std::ostream& out, const std::string& dir, Experiments& x) {
@@ -98,17 +82,12 @@ void WriteCoverageNotes(std::ostream& out, const std::string& dir, Experiments& 
     const auto outside = std::count_if(records.begin(), records.end(), [](const FrameRecord& f) {
       return f.region == aar_geometry::Region::kOutside;
     });
-    if (outside > 0) {
-      notes.push_back(e + ": " + std::to_string(outside) + " of " + std::to_string(records.size()) +
-                      " frames outside the regions (a range under 32 m or over 175 m, or not "
-                      "finite), in no table");
-    }
-    const PlannedRun planned = ReadPlannedRun(dir, e);
-    if (planned.frames > static_cast<int>(records.size())) {
-      notes.push_back("**" + e + ": " + std::to_string(records.size()) + " of " +
-                      std::to_string(planned.frames) + " planned frames flown** (run " +
-                      (planned.status.empty() ? std::string("unfinished") : planned.status) +
-                      "; why: the Run section); its tables cover only those");
+    const std::string note = OutsideRegionsNote(e, outside, records.size());
+    if (!note.empty()) notes.push_back(note);
+    const std::string short_of_plan = ShortOfPlan(ReadPlannedRun(dir + "/" + e), records.size());
+    if (!short_of_plan.empty()) {
+      notes.push_back("**" + e + ": " + short_of_plan +
+                      "** (why: the Run section); its tables cover only those");
     }
   }
   for (const auto& note : notes) out << "- " << note << "\n";

@@ -17,6 +17,7 @@
 #include "aar_eval/tables.h"
 #include "integrity_section.h"
 #include "markdown.h"
+#include "run_record.h"
 
 namespace aar_eval {
 namespace {
@@ -67,7 +68,8 @@ void AddRegionColumns(Columns<ExperimentRow>& columns, int digits, const std::st
 }
 
 // The approaches under DIR/approaches (sorted, into `result`) and their experiments' frames;
-// an approach that lacks an experiment or has fewer of its frames than of another is incomplete.
+// an approach that lacks an experiment, or has fewer of its frames than of another or than its
+// run planned, is incomplete.
 ApproachRecords ReadApproaches(const SuiteReportOptions& options, SuiteReportResult& result) {
   namespace fs = std::filesystem;
   const fs::path approaches_dir = fs::path(options.dir) / "approaches";
@@ -86,8 +88,16 @@ ApproachRecords ReadApproaches(const SuiteReportOptions& options, SuiteReportRes
       most = std::max(most, records[a][e].size());
     }
     for (const auto& e : options.experiments) {
-      if (!records[a].count(e) || records[a][e].size() < most)
-        result.incomplete.push_back(a + "/" + e);
+      const std::string key = a + "/" + e;
+      const size_t flown = records[a].count(e) ? records[a][e].size() : 0;
+      std::string why = ShortOfPlan(ReadPlannedRun((approaches_dir / key).string()), flown);
+      if (!records[a].count(e))
+        why = "not flown" + (why.empty() ? "" : ": " + why);
+      else if (why.empty() && flown < most)
+        why = std::to_string(flown) + " frames, another experiment " + std::to_string(most);
+      if (why.empty()) continue;
+      result.incomplete.push_back(key);
+      result.incomplete_why[key] = why;
     }
   }
   const bool any =
@@ -104,8 +114,10 @@ void WriteIntroduction(std::ostream& out, const SuiteReportOptions& options,
   WriteRunSection(out, options.dir);
   if (!result.incomplete.empty()) {
     out << "**INCOMPLETE:** missing or short: ";
-    for (size_t i = 0; i < result.incomplete.size(); ++i)
-      out << (i ? ", " : "") << result.incomplete[i];
+    for (size_t i = 0; i < result.incomplete.size(); ++i) {
+      const std::string& key = result.incomplete[i];
+      out << (i ? ", " : "") << key << " (" << result.incomplete_why.at(key) << ")";
+    }
     out << ". Each statistic is over the approaches that have the experiment's results.\n\n";
   }
   std::ifstream settings(options.dir + "/approaches.csv");
@@ -133,6 +145,26 @@ void WriteIntroduction(std::ostream& out, const SuiteReportOptions& options,
 }
 
 // Share of frames with an estimate of their own, per region.
+// A line per experiment with frames outside the regions, over all approaches: in no table.
+void WriteOutsideNotes(std::ostream& out, const SuiteReportOptions& options,
+                       const ApproachRecords& records) {
+  bool any = false;
+  for (const auto& e : options.experiments) {
+    size_t outside = 0, frames = 0;
+    for (const auto& [a, by_e] : records) {
+      const auto it = by_e.find(e);
+      if (it == by_e.end()) continue;
+      frames += it->second.size();
+      outside += std::count_if(it->second.begin(), it->second.end(), [](const FrameRecord& f) {
+        return f.region == aar_geometry::Region::kOutside;
+      });
+    }
+    const std::string note = OutsideRegionsNote(e, outside, frames);
+    if (!note.empty()) out << (any ? "" : "\n") << "- " << note << "\n";
+    any |= !note.empty();
+  }
+}
+
 void WriteCoverage(std::ostream& out, const SuiteReportOptions& options, const SuiteStats& stats) {
   out << "## Coverage\n\nShare of frames with an estimate of their own (%; the interval clipped "
          "to 0-100).\n\n";
@@ -322,6 +354,7 @@ SuiteReportResult WriteSuiteReport(const SuiteReportOptions& options) {
   std::ofstream out(result.path);
   WriteIntroduction(out, options, result);
   WriteCoverage(out, options, stats);
+  WriteOutsideNotes(out, options, records);
   WriteErrorMagnitudes(out, options, stats);
   WriteWrongLocks(out, options, records);
   WritePairedImprovements(out, options, records, stats);

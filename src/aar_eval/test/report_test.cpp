@@ -129,7 +129,7 @@ TEST(Report, FramesOutsideTheRegionsAndAShortRunAreNamed) {
                         "175 m, or not finite), in no table"),
             std::string::npos)
       << report;
-  EXPECT_NE(report.find("- **dynamic: 1 of 3 planned frames flown** (run failed; why: the Run "
+  EXPECT_NE(report.find("- **dynamic: 1 of 3 planned frames flown (run failed)** (why: the Run "
                         "section); its tables cover only those"),
             std::string::npos)
       << report;

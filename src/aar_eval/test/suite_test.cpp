@@ -46,7 +46,8 @@ FrameRecord Frame(double t, double range_m, double x_error, bool estimated = tru
 }
 
 // Three approaches: dynamic halves naive's x error on every frame in region C, and misses one
-// region B frame of approach 2; approach 3 has no dynamic run (incomplete).
+// region B frame of approach 2; approach 3 has no dynamic run, and approach 1's naive run
+// planned 5 frames and failed after 3 (both incomplete, named with why).
 TEST(Suite, MeansIntervalsPairedGainsAndIncompleteRuns) {
   const std::string dir = testing::TempDir() + "/aar_eval_suite_test";
   std::filesystem::remove_all(dir);
@@ -56,23 +57,34 @@ TEST(Suite, MeansIntervalsPairedGainsAndIncompleteRuns) {
     const double x = 0.1 * a;  // naive's x error: 0.1, 0.2, 0.3
     WriteFrameCsv(approach + "/naive/frames.csv",
                   {Frame(1.0, 100.0, 1.0), Frame(2.0, 50.0, 1.0), Frame(3.0, 35.0, x)});
-    if (a == 3) continue;
+    if (a == 3) {  // and a frame at 200 m: outside the regions, said under the coverage table
+      WriteFrameCsv(approach + "/naive/frames.csv", {Frame(1.0, 100.0, 1.0), Frame(2.0, 50.0, 1.0),
+                                                     Frame(3.0, 35.0, x), Frame(4.0, 200.0, x)});
+      continue;
+    }
     std::filesystem::create_directories(approach + "/dynamic");
     WriteFrameCsv(approach + "/dynamic/frames.csv",
                   {Frame(1.0, 100.0, 1.0), Frame(2.0, 50.0, 1.0, a != 2), Frame(3.0, 35.0, x / 2)});
   }
   std::ofstream(dir + "/approaches.csv") << "name,seed\n01,1\n02,2\n03,3\n";
+  std::ofstream(dir + "/approaches/01/naive/run.json") << R"({"status": "failed", "frames": 5})";
   SuiteReportOptions options;
   options.dir = dir;
   options.experiments = {"naive", "dynamic"};
   options.baselines = {"naive"};
   const SuiteReportResult r = WriteSuiteReport(options);
   EXPECT_EQ(r.approaches, (std::vector<std::string>{"01", "02", "03"}));
-  EXPECT_EQ(r.incomplete, (std::vector<std::string>{"03/dynamic"}));
+  EXPECT_EQ(r.incomplete, (std::vector<std::string>{"01/naive", "03/dynamic"}));
   const std::string report = Read(r.path);
-  EXPECT_NE(report.find("**INCOMPLETE:** missing or short: 03/dynamic"), std::string::npos)
+  EXPECT_NE(report.find("**INCOMPLETE:** missing or short: 01/naive (3 of 5 planned frames "
+                        "flown (run failed)), 03/dynamic (not flown)"),
+            std::string::npos)
       << report;
   EXPECT_NE(report.find("| 01 | 1 |"), std::string::npos) << report;  // approaches.csv
+  EXPECT_NE(report.find("\n- naive: 1 of 10 frames outside the regions (a range under 32 m or "
+                        "over 175 m, or not finite), in no table\n"),
+            std::string::npos)
+      << report;
   // Coverage of region B: 100 % and 0 %: mean 50, interval +/- t(0.975, 1) x 50 = 635.3,
   // clipped to 0-100 %.
   EXPECT_NE(report.find("| dynamic | 2 | 100.0 [100.0, 100.0] | 50.0 [0.0, 100.0] |"),

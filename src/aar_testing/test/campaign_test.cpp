@@ -180,6 +180,37 @@ TEST(Campaign, CtrlCWhileTheReportsAreWrittenLeavesNothingRunning) {
       << "left running: " << aar_testing::RunCommand("pgrep -af '" + mine + "'").output;
 }
 
+// A full disk, at three points of a run (the configuration's copy, the run's own files, the
+// reports): each write that failed is named with its file and the disk's complaint, never a
+// traceback, never a "wrote" for it, never a truncated record, and the exit code is 1. A tmpfs
+// of each size, mounted here (needs root), unmounted at the end.
+TEST(Campaign, AFullDiskIsNamedAtEveryStepWithoutATraceback) {
+  const std::string disk = "/tmp/aar_campaign_full_disk";
+  for (const std::string size : {"16k", "60k", "160k"}) {
+    aar_testing::RunCommand("umount " + disk + " 2>/dev/null; mkdir -p " + disk);
+    ASSERT_EQ(aar_testing::RunCommand("mount -t tmpfs -o size=" + size + " tmpfs " + disk).status,
+              0)
+        << "needs root to mount a tmpfs";
+    const std::string out = disk + "/run";
+    const auto r =
+        aar_testing::RunCommand(ScriptsRun("--frames 10 --experiments naive --out " + out, 300));
+    const std::string json = Read(out + "/naive/run.json");
+    aar_testing::RunCommand("umount " + disk);
+    EXPECT_EQ(r.status, 1) << size << ": " << r.output;
+    EXPECT_NE(r.output.find(out + "/"), std::string::npos) << size << ": " << r.output;
+    EXPECT_NE(r.output.find("No space left on device"), std::string::npos)
+        << size << ": " << r.output;
+    EXPECT_EQ(r.output.find("Traceback"), std::string::npos) << size << ": " << r.output;
+    if (r.output.find(out + "/report.md: write failed") != std::string::npos)
+      EXPECT_EQ(r.output.find("wrote " + out + "/report.md"), std::string::npos) << r.output;
+    if (!json.empty()) EXPECT_EQ(json.back(), '}') << size << ": a truncated run.json: " << json;
+    if (size == "16k")  // nothing flown: said, with what to do (a --resume has nothing to resume)
+      EXPECT_NE(r.output.find("nothing was flown: make room, remove " + out + " and run again"),
+                std::string::npos)
+          << r.output;
+  }
+}
+
 // kSuite flown by the local engine into kLocal, once in this process; its output.
 const char* kLocal = "/tmp/aar_campaign_local";
 const aar_testing::CommandResult& LocalSuite() {

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <map>
 #include <string>
 #include <vector>
 
@@ -31,8 +32,10 @@ struct SuiteReportResult {
   std::string path;                     // DIR/suite.md
   std::vector<std::string> approaches;  // those found, in name order
   // "<approach>/<experiment>" without a frames.csv, or with fewer rows than the approach's
-  // most complete experiment: the report is then marked incomplete.
+  // most complete experiment or than its run.json planned: the report is then marked
+  // incomplete, each with why ("not flown", "123 of 300 planned frames flown (run failed)").
   std::vector<std::string> incomplete;
+  std::map<std::string, std::string> incomplete_why;
 };
 
 // DIR/suite.md: the run details (DIR/run.txt) and the approaches' settings (DIR/approaches.csv)
