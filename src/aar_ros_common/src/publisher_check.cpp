@@ -86,4 +86,11 @@ std::vector<std::string> PublisherCheck::StrangersIfChanged(uint32_t links, doub
   return strangers;
 }
 
+std::string PublisherCheck::Describe(const std::vector<std::string>& strangers) const {
+  std::string named;
+  for (const std::string& s : strangers) named += (named.empty() ? "" : ", ") + s;
+  return named + " (the master lists " + node_ + " at " +
+         (node_uri_.empty() ? std::string("no address") : node_uri_) + ")";
+}
+
 }  // namespace aar_ros_common

@@ -58,8 +58,8 @@ TEST(FailFast, AForgedEstimateEndsTheLockstepRunNamingIt) {
   EXPECT_EQ(r.status, 1) << r.output;
   EXPECT_TRUE(std::regex_search(
       r.output, std::regex("FAILED \\([0-9]+ of 60 frames, 1 attempt\\(s\\)\\): \\[FATAL\\] .*sim: "
-                           "frame loop stopped: another node publishes on /aar/pose_estimate "
-                           "\\(http://localhost:[0-9]+/; the master lists /aar_manager at "
+                           "frame loop stopped: another node publishes on /aar/pose_estimate at "
+                           "http://localhost:[0-9]+/ \\(the master lists /aar_manager at "
                            "http://localhost:[0-9]+/\\)")))
       << r.output;
   EXPECT_NE(r.output.find("forger: "), std::string::npos) << r.output;

@@ -187,14 +187,10 @@ bool EvalNode::NoStranger(const ros::Time& stamp) {
       check_->StrangersIfChanged(estimate_sub_.getNumPublishers());
   if (strangers.empty()) return true;
   if (while_strangers_++ % 100 == 0) {
-    std::string named;
-    for (const std::string& uri : strangers) named += (named.empty() ? "" : ", ") + uri;
-    ROS_ERROR_STREAM(
-        "eval: another node is linked to "
-        << estimate_sub_.getTopic() << " at " << named << " (the master lists " << publisher_
-        << " at " << (check_->node_uri().empty() ? std::string("no address") : check_->node_uri())
-        << "): the estimate for " << stamp << " cannot be told from its: ignored ("
-        << while_strangers_ << " so far)");
+    ROS_ERROR_STREAM("eval: another node is linked to "
+                     << estimate_sub_.getTopic() << " at " << check_->Describe(strangers)
+                     << ": the estimate for " << stamp << " cannot be told from its: ignored ("
+                     << while_strangers_ << " so far)");
   }
   return false;
 }

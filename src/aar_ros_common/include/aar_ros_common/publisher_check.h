@@ -30,6 +30,10 @@ class PublisherCheck {
   // XML-RPC call to this node; per message it slowed a loaded machine's eval.
   std::vector<std::string> StrangersIfChanged(uint32_t links, double recheck = 1.0);
 
+  // `strangers` (URIs or other names of what is linked) as the messages name them:
+  // "URI, URI (the master lists /node at URI)", or "... at no address" before a look-up.
+  std::string Describe(const std::vector<std::string>& strangers) const;
+
   const std::string& node() const { return node_; }
   const std::string& node_uri() const { return node_uri_; }  // as last looked up ("" if never)
 

@@ -168,16 +168,12 @@ std::string SimNode::Intrusion(const std::string& caller) {
     }
     check_.emplace(estimate_sub_.getTopic(), node);
   }
-  std::string named;
-  for (const std::string& uri : check_->StrangersIfChanged(estimate_sub_.getNumPublishers()))
-    named += (named.empty() ? "" : ", ") + uri;
-  if (caller != check_->node())
-    named += (named.empty() ? "" : ", ") + std::string("caller ") + caller;
+  std::vector<std::string> named = check_->StrangersIfChanged(estimate_sub_.getNumPublishers());
+  if (caller != check_->node()) named.push_back("caller " + caller);
   if (named.empty()) return "";
-  return "another node publishes on " + estimate_sub_.getTopic() + " (" + named +
-         "; the master lists " + check_->node() + " at " +
-         (check_->node_uri().empty() ? std::string("no address") : check_->node_uri()) +
-         "): its estimates cannot be told from the registration's; stopping the lockstep run";
+  return "another node publishes on " + estimate_sub_.getTopic() + " at " +
+         check_->Describe(named) +
+         ": its estimates cannot be told from the registration's; stopping the lockstep run";
 }
 
 void SimNode::WaitToStart() const {
