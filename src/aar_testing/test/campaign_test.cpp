@@ -164,6 +164,12 @@ TEST(Campaign, CtrlCWhileTheReportsAreWrittenLeavesNothingRunning) {
   auto r = aar_testing::RunCommand(ScriptsRun("--frames 20 --experiments naive --out " + out));
   ASSERT_EQ(r.status, 0) << r.output;
   ASSERT_NE(r.output.find("wrote " + out + "/report.md"), std::string::npos) << r.output;
+  // A normal end reads as one: the sim says it is done and roslaunch no "REQUIRED process [sim-3]
+  // has died!" (end_launch_on_exit.py ends the launch), nor the capture's for its capture node.
+  const std::string log = Read(out + "/naive/launch.log");
+  EXPECT_NE(log.find("sim: flight path done, 20 frames"), std::string::npos) << log;
+  EXPECT_EQ(log.find("has died"), std::string::npos) << log;
+  EXPECT_EQ(Read(out + "/captures/launch.log").find("has died"), std::string::npos);
   // --resume of a finished campaign writes the reports again; SIGINT 12 s in, mid-capture.
   r = aar_testing::RunCommand("timeout -s INT 12 " + aar_testing::WorkspaceRoot() +
                               "/scripts/run --resume " + out + " --no-build");
