@@ -8,10 +8,10 @@
 namespace aar_alignment {
 
 std::vector<std::vector<Eigen::Vector3d>> BoomPartsInTanker(
-    const std::vector<aar_occlusion::BoomPart>& parts,
+    const std::vector<aar_description::BoomCollisionPart>& parts,
     const std::map<std::string, Eigen::Isometry3d>& T_tanker_links) {
   std::vector<std::vector<Eigen::Vector3d>> out;
-  for (const aar_occlusion::BoomPart& part : parts) {
+  for (const aar_description::BoomCollisionPart& part : parts) {
     const auto link = T_tanker_links.find(part.link);
     if (link == T_tanker_links.end()) continue;
     const Eigen::Isometry3d T = link->second * part.T_link_part;

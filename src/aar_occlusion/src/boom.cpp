@@ -6,7 +6,6 @@
 #include <Eigen/Dense>
 
 #include <aar_geometry/receiver_reference.h>
-#include <aar_geometry/weld.h>
 
 namespace aar_occlusion {
 
@@ -50,48 +49,26 @@ std::vector<BoomPart> LoadBoomParts(const aar_geometry::RobotModel& model,
         " m) must not exceed the cull margin (" + std::to_string(options.cull_margin) + " m)");
   }
   std::vector<BoomPart> parts;
-  for (const auto& link : model.links) {
-    if (link.collisions.empty() && !link.visuals.empty()) {
-      throw std::invalid_argument("boom link '" + link.name +
-                                  "' has visual but no collision geometry: it would hide the "
-                                  "receiver without shadow volumes and its points would not be "
-                                  "culled");
-    }
-    for (const auto& element : link.collisions) {
-      BoomPart part;
-      part.name = element.name;
-      part.link = link.name;
-      part.T_link_part = element.T_link_geometry;
-      part.mesh = aar_geometry::WeldVertices(element.mesh).mesh;
-      part.adjacency = aar_geometry::BuildAdjacency(part.mesh);
-      const std::string where = "collision part '" + part.name + "' of boom link '" + link.name;
-      if (!part.adjacency.closed()) {
-        throw std::invalid_argument(where + "' is not closed (" + part.adjacency.NotClosedReason() +
-                                    "): shadow volumes need closed convex parts");
+  for (aar_description::BoomCollisionPart& collision :
+       aar_description::LoadBoomCollisionParts(model)) {
+    BoomPart part;
+    static_cast<aar_description::BoomCollisionPart&>(part) = std::move(collision);
+    const auto grow = [&](double margin) {
+      TriangleMesh grown = Inflate(part.mesh, margin);
+      // Least-squares corners on thin facets may dent by a fraction of a millimetre.
+      if (!aar_geometry::IsConvex(grown, 1e-4 + 1e-2 * margin)) {
+        throw std::invalid_argument("collision part '" + part.name + "' of boom link '" +
+                                    part.link + "' is not convex once grown by " +
+                                    std::to_string(margin) + " m");
       }
-      // 0.1 mm: mesh files round vertices (6 decimals in OBJ), which tilts thin facets.
-      if (!aar_geometry::IsConvex(part.mesh, 1e-4)) {
-        throw std::invalid_argument(
-            where + "' is not convex: point inclusion by planes needs convex parts");
-      }
-      const auto grow = [&](double margin) {
-        TriangleMesh grown = Inflate(part.mesh, margin);
-        // Least-squares corners on thin facets may dent by a fraction of a millimetre.
-        if (!aar_geometry::IsConvex(grown, 1e-4 + 1e-2 * margin)) {
-          throw std::invalid_argument(where + "' is not convex once grown by " +
-                                      std::to_string(margin) + " m");
-        }
-        return grown;
-      };
-      part.grown = grow(options.cull_margin);
-      part.grown_adjacency = aar_geometry::BuildAdjacency(part.grown);
-      part.outline = grow(options.silhouette_margin);
-      part.outline_adjacency = aar_geometry::BuildAdjacency(part.outline);
-      parts.push_back(std::move(part));
-    }
+      return grown;
+    };
+    part.grown = grow(options.cull_margin);
+    part.grown_adjacency = aar_geometry::BuildAdjacency(part.grown);
+    part.outline = grow(options.silhouette_margin);
+    part.outline_adjacency = aar_geometry::BuildAdjacency(part.outline);
+    parts.push_back(std::move(part));
   }
-  if (parts.empty())
-    throw std::invalid_argument("boom model '" + model.name + "' has no collision geometry");
   return parts;
 }
 

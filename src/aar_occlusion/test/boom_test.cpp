@@ -3,7 +3,6 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
-#include <fstream>
 #include <random>
 
 #include <aar_description/boom_model.h>
@@ -80,52 +79,6 @@ TEST(BoomParts, TheShippedBoomHasTwelveClosedConvexParts) {
   BoomPartsOptions inverted;
   inverted.cull_margin = 0.01;  // the outline must lie inside the grown boom
   EXPECT_THROW(LoadBoomParts(Boom(), inverted), std::invalid_argument);
-}
-
-// A URDF whose links are given as XML, meshes next to it.
-aar_geometry::RobotModel ModelFrom(const std::string& links) {
-  const std::string xml = "<robot name=\"r\">" + links + "</robot>";
-  return aar_geometry::ParseRobotModel(xml, "test", ::testing::TempDir());
-}
-
-void WriteObj(const std::string& name, const std::string& text) {
-  std::ofstream(::testing::TempDir() + "/" + name) << text;
-}
-
-TEST(BoomParts, BadPartsAreRefusedNamingTheLink) {
-  auto expect_error = [](const std::string& links, const std::string& needle) {
-    try {
-      LoadBoomParts(ModelFrom(links));
-      ADD_FAILURE() << "no error for " << needle;
-    } catch (const std::invalid_argument& e) {
-      EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
-    }
-  };
-  expect_error(
-      "<link name=\"fairing\"><visual><geometry><box size=\"1 1 1\"/></geometry></visual></link>",
-      "boom link 'fairing' has visual but no collision geometry");
-  expect_error("<link name=\"empty\"/>", "no collision geometry");
-  // An open box: the top face missing.
-  WriteObj("open.obj",
-           "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n"
-           "f 1 3 2\nf 1 4 3\nf 1 2 6\nf 1 6 5\nf 2 3 7\nf 2 7 6\nf 3 4 8\nf 3 8 7\n"
-           "f 4 1 5\nf 4 5 8\n");
-  expect_error(
-      "<link name=\"tube\"><collision><geometry><mesh filename=\"open.obj\"/></geometry>"
-      "</collision></link>",
-      "of boom link 'tube' is not closed (4 open");
-  // A closed L-shaped prism: not convex.
-  WriteObj("ell.obj",
-           "v 0 0 0\nv 2 0 0\nv 2 1 0\nv 1 1 0\nv 1 2 0\nv 0 2 0\n"
-           "v 0 0 1\nv 2 0 1\nv 2 1 1\nv 1 1 1\nv 1 2 1\nv 0 2 1\n"
-           "f 1 3 2\nf 1 4 3\nf 1 6 4\nf 4 6 5\n"
-           "f 7 8 9\nf 7 9 10\nf 7 10 12\nf 10 11 12\n"
-           "f 1 2 8\nf 1 8 7\nf 2 3 9\nf 2 9 8\nf 3 4 10\nf 3 10 9\n"
-           "f 4 5 11\nf 4 11 10\nf 5 6 12\nf 5 12 11\nf 6 1 7\nf 6 7 12\n");
-  expect_error(
-      "<link name=\"bracket\"><collision><geometry><mesh filename=\"ell.obj\"/></geometry>"
-      "</collision></link>",
-      "of boom link 'bracket' is not convex");
 }
 
 // The boom at a pose, seen from the default rig: centre (-20, 1, -3) m looking aft, 0.5 m

@@ -9,10 +9,10 @@
 #include <aar_alignment/aligner.h>
 #include <aar_alignment/boom_parts.h>
 #include <aar_description/boom_model.h>
+#include <aar_description/boom_parts.h>
 #include <aar_description/receiver_description.h>
 #include <aar_geometry/pose_error.h>
 #include <aar_geometry/receiver_reference.h>
-#include <aar_occlusion/boom.h>
 #include <aar_registration/registrar.h>
 #include <aar_sim/flight_path.h>
 
@@ -43,7 +43,7 @@ Errors AlignFromPerturbedStarts(const aar_sim::WorldOptions& world, double t, in
   in.left_camera = LeftCamera(sim.rig()), in.right_camera = RightCamera(sim.rig());
   if (mask_boom) {
     in.boom_parts_in_tanker = aar_alignment::BoomPartsInTanker(
-        aar_occlusion::LoadBoomParts(LoadBoomModel()), f.T_tanker_links);
+        aar_description::LoadBoomCollisionParts(LoadBoomModel()), f.T_tanker_links);
   }
   aar_alignment::Vector6d sigma;
   sigma << Eigen::Vector3d::Constant(position), Eigen::Vector3d::Constant(attitude);
@@ -147,7 +147,7 @@ TEST(OutlineAlignment, TheRq4IsAlignedWithoutBiasWithAMaskAtTheImagesResolution)
     in.left = sim.Left(f), in.right = sim.Right(f);
     in.left_camera = LeftCamera(sim.rig()), in.right_camera = RightCamera(sim.rig());
     in.boom_parts_in_tanker = aar_alignment::BoomPartsInTanker(
-        aar_occlusion::LoadBoomParts(LoadBoomModel()), f.T_tanker_links);
+        aar_description::LoadBoomCollisionParts(LoadBoomModel()), f.T_tanker_links);
     in.T_tanker_receiver_predicted = f.T_tanker_receiver;
     aar_alignment::Vector6d sigma;  // a weak prior: the images decide
     sigma << Eigen::Vector3d::Constant(10.0), Eigen::Vector3d::Constant(0.2);
@@ -208,7 +208,7 @@ TEST(OutlineAlignment, AStartWhoseOutlineDoesNotFitIsRefused) {
   for (const auto& p : aar_geometry::SampleReceiver(mesh, {}).points) cloud.push_back(wrong * p);
   aar_registration::OutlineFrame& frame = far.frame;
   frame.boom_parts_in_tanker = aar_alignment::BoomPartsInTanker(
-      aar_occlusion::LoadBoomParts(LoadBoomModel()), far.f.T_tanker_links);
+      aar_description::LoadBoomCollisionParts(LoadBoomModel()), far.f.T_tanker_links);
   for (const bool outline : {false, true}) {
     aar_registration::RegistrarOptions o;
     o.reference = aar_registration::ReferenceKind::kDense;
@@ -326,7 +326,7 @@ TEST(OutlineAlignment, WithoutStereoPointsATrackStartsFromTheImagesAlone) {
   for (const bool realistic : {false, true}) {
     FarFrame far(realistic ? RealisticWorld() : SimStereo::DefaultWorld());
     far.frame.boom_parts_in_tanker = aar_alignment::BoomPartsInTanker(
-        aar_occlusion::LoadBoomParts(LoadBoomModel()), far.f.T_tanker_links);
+        aar_description::LoadBoomCollisionParts(LoadBoomModel()), far.f.T_tanker_links);
     for (const bool image_start : {false, true}) {
       aar_registration::RegistrarOptions o;
       o.reference = aar_registration::ReferenceKind::kDense;

@@ -20,10 +20,10 @@
 #include <aar_alignment/aligner.h>
 #include <aar_alignment/boom_parts.h>
 #include <aar_description/boom_model.h>
+#include <aar_description/boom_parts.h>
 #include <aar_description/receiver_description.h>
 #include <aar_geometry/pose.h>
 #include <aar_geometry/pose_error.h>
-#include <aar_occlusion/boom.h>
 #include <aar_sim/flight_path.h>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
@@ -116,7 +116,7 @@ aar_alignment::AlignmentOptions OptionsFromEnvironment() {
 
 // The start from the images alone at each of `times` (the frames' boom masked).
 void AcquisitionTable(aar_testing::SimStereo& sim, const aar_sim::FlightPath& path,
-                      const std::vector<aar_occlusion::BoomPart>& boom,
+                      const std::vector<aar_description::BoomCollisionPart>& boom,
                       const std::vector<double>& times) {
   const aar_alignment::OutlineAligner aligner(sim.world().receiver_mesh());
   const auto c12 = aar_description::LoadReceiverDescription(aar_testing::ModelsDir() + "/c12.yaml");
@@ -162,7 +162,7 @@ int main(int argc, char** argv) {
   aar_testing::SimStereo sim(world == "ideal" ? aar_testing::SimStereo::DefaultWorld()
                                               : aar_testing::RealisticWorld());
   const auto path = aar_sim::FlightPath::Load(aar_testing::DefaultApproachPath());
-  const auto boom = aar_occlusion::LoadBoomParts(aar_testing::LoadBoomModel());
+  const auto boom = aar_description::LoadBoomCollisionParts(aar_testing::LoadBoomModel());
   aar_alignment::AlignmentOptions options = OptionsFromEnvironment();
   const aar_alignment::OutlineAligner contrast(sim.world().receiver_mesh(), options);
   options.line_model = aar_alignment::LineModel::kRegion;

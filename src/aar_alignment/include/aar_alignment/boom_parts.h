@@ -4,7 +4,7 @@
 #include <string>
 #include <vector>
 
-#include <aar_occlusion/boom.h>
+#include <aar_description/boom_parts.h>
 #include <Eigen/Geometry>
 #include <opencv2/core.hpp>
 
@@ -12,11 +12,11 @@
 
 namespace aar_alignment {
 
-// The boom's convex collision parts (aar_occlusion::LoadBoomParts) placed at a frame's link poses,
-// each as its vertices in the tanker frame: what the alignment masks out of the images. A part
-// whose link has no pose is left out.
+// The boom's convex collision parts (aar_description::LoadBoomCollisionParts) placed at a frame's
+// link poses, each as its vertices in the tanker frame: what the alignment masks out of the images.
+// A part whose link has no pose is left out.
 std::vector<std::vector<Eigen::Vector3d>> BoomPartsInTanker(
-    const std::vector<aar_occlusion::BoomPart>& parts,
+    const std::vector<aar_description::BoomCollisionPart>& parts,
     const std::map<std::string, Eigen::Isometry3d>& T_tanker_links);
 
 // The parts (BoomPartsInTanker) projected into `camera`, each grown by `margin_px`: CV_8U of the

@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include <aar_description/boom_parts.h>
 #include <aar_geometry/adjacency.h>
 #include <aar_geometry/robot_model.h>
 #include <aar_geometry/triangle_mesh.h>
@@ -17,13 +18,8 @@ class VisibilityTester;
 
 namespace aar_occlusion {
 
-// One closed convex collision element of the boom, welded, in its own frame.
-struct BoomPart {
-  std::string name;  // the collision element's name
-  std::string link;
-  Eigen::Isometry3d T_link_part = Eigen::Isometry3d::Identity();
-  aar_geometry::TriangleMesh mesh;
-  aar_geometry::TriangleAdjacency adjacency;
+// One of the boom's collision parts (aar_description) as culling needs it: grown by both margins.
+struct BoomPart : aar_description::BoomCollisionPart {
   aar_geometry::TriangleMesh grown;  // every face pushed out by the cull margin
   aar_geometry::TriangleAdjacency grown_adjacency;
   aar_geometry::TriangleMesh outline;  // pushed out by the silhouette margin
@@ -38,10 +34,9 @@ struct BoomPartsOptions {
   double silhouette_margin = 0.02;
 };
 
-// Every collision element of the model as a BoomPart, grown by both margins for culling.
-// Throws std::invalid_argument naming the link: a link with visual geometry but no collision
-// geometry (it would hide the receiver and never be culled), a part that is open, inconsistently
-// wound or not convex, or a model without any collision geometry.
+// Every collision element of the model (aar_description::LoadBoomCollisionParts, which throws
+// std::invalid_argument naming a bad link or part) as a BoomPart, grown by both margins for
+// culling; also throws for a bad margin or a part that is not convex once grown.
 std::vector<BoomPart> LoadBoomParts(const aar_geometry::RobotModel& model,
                                     const BoomPartsOptions& options = {});
 

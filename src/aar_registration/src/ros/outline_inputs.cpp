@@ -26,8 +26,8 @@ OutlineInputs::OutlineInputs(ros::NodeHandle nh, const tf2_ros::Buffer& tf,
     ROS_INFO("registration: no boom modelled (model_boom: false): the outline masks none");
   } else {
     try {
-      boom_ =
-          aar_occlusion::LoadBoomParts(aar_ros_common::LoadRobotDescription(nh, robot_description));
+      boom_ = aar_description::LoadBoomCollisionParts(
+          aar_ros_common::LoadRobotDescription(nh, robot_description));
       std::set<std::string> links;
       for (const auto& part : boom_) links.insert(part.link);
       boom_links_.assign(links.begin(), links.end());

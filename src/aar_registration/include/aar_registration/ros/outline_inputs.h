@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include <aar_occlusion/boom.h>
+#include <aar_description/boom_parts.h>
 #include <message_filters/subscriber.h>
 #include <message_filters/time_synchronizer.h>
 #include <ros/ros.h>
@@ -63,7 +63,7 @@ class OutlineInputs {
   std::mutex mutex_;
   std::map<ros::Time, Pair> pairs_by_stamp_;  // the last kKeptPairs
   size_t pairs_ = 0;
-  std::vector<aar_occlusion::BoomPart> boom_;
+  std::vector<aar_description::BoomCollisionPart> boom_;
   std::vector<std::string> boom_links_;
   std::string boom_error_;
 };
