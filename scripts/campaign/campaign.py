@@ -3,13 +3,17 @@ the lock that keeps two drivers out of one folder."""
 import dataclasses
 import fcntl
 import json
+import errno
 import os
 import shutil
+import subprocess
+import sys
 
 from campaign.plan import Run
 from campaign.workspace import ROOT, Refused, commit, machine, utc_now, write_file
 
 RECORD = "campaign.json"
+CHECK_EXPERIMENT = os.path.join(ROOT, "src/aar_ros_common/scripts/check_experiment.py")
 
 
 @dataclasses.dataclass
@@ -80,16 +84,21 @@ class Lock:
 
 
 def copy_configuration(unit_dir, experiments, extra):
-    """config/*.yaml, the experiments' files and the extra files (name -> path) into the unit's
-    config/ folder: every result records the configuration it was made with."""
+    """config/*.yaml, the experiments' settings (resolved: their includes in, as the launch loads
+    them) and the extra files (name -> path) into the unit's config/ folder: every result records
+    the configuration it was made with."""
     config = os.path.join(unit_dir, "config")
     os.makedirs(config, exist_ok=True)
     for name in sorted(os.listdir(os.path.join(ROOT, "config"))):
         if name.endswith(".yaml"):
             shutil.copy(os.path.join(ROOT, "config", name), config)
     for e in experiments:
-        shutil.copy(os.path.join(ROOT, "config/experiments", e + ".yaml"),
-                    os.path.join(config, f"experiment_{e}.yaml"))
+        out = os.path.join(config, f"experiment_{e}.yaml")
+        resolved = subprocess.run([sys.executable, CHECK_EXPERIMENT, os.path.join(
+            ROOT, "config/experiments", e + ".yaml"), "--resolved", out], capture_output=True,
+            text=True)
+        if resolved.returncode != 0:  # checked before (plans); a disk that refuses the copy
+            raise OSError(errno.EIO, resolved.stderr.strip() or "check_experiment failed", out)
     for name, path in extra.items():
         if path:
             shutil.copy(path, os.path.join(config, name))

@@ -4,10 +4,11 @@ Arguments are checked before anything is set up, built or flown."""
 import argparse
 import os
 import re
+import subprocess
 import sys
 
 from campaign import cluster, drive, plans, slurm, workspace
-from campaign.campaign import Campaign, Lock, refuse_existing
+from campaign.campaign import CHECK_EXPERIMENT, Campaign, Lock, refuse_existing
 from campaign.workspace import Refused, fail, os_error, say
 
 DEFAULTS = {
@@ -107,6 +108,19 @@ def main(argv):
         return 1
 
 
+def show_experiment(argv):
+    """scripts/run --show-experiment NAME|FILE: the experiment's settings, each with the file that
+    gives it (check_experiment.py --show); the stages' defaults (config/*.yaml) lie under them."""
+    if len(argv) != 1:
+        fail("--show-experiment takes one experiment: a name of config/experiments/ or a file")
+    path = argv[0] if os.path.isfile(argv[0]) else os.path.join(
+        workspace.ROOT, "config/experiments", argv[0] + ".yaml")
+    if not os.path.isfile(path):
+        fail(f"no experiment '{argv[0]}' in config/experiments/ (available: "
+             f"{','.join(plans._names('config/experiments'))})")
+    return subprocess.run([sys.executable, CHECK_EXPERIMENT, "--show", path]).returncode
+
+
 def _main(argv):
     if argv and argv[0] in ("task", "merge"):
         from campaign import jobs
@@ -118,6 +132,8 @@ def _main(argv):
         from campaign import cost
         return cost.main(argv[1:])
     kind, argv = argv[0], argv[1:]
+    if kind == "run" and argv and argv[0] == "--show-experiment":
+        return show_experiment(argv[1:])
     if kind == "run" and "--suite" in argv:
         kind = "suite"
     workspace.PROG = kind

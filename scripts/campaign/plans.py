@@ -7,14 +7,16 @@ import subprocess
 import sys
 import types
 
-from campaign.campaign import Campaign, copy_configuration, write_provenance
+from campaign.campaign import CHECK_EXPERIMENT, Campaign, copy_configuration, write_provenance
 from campaign.plan import Run, frame_count, path_times, sim_rate
 from campaign.workspace import ROOT, Refused, absolute, tool, utc_stamp
 
 USAGE = {
     "run": "The main job: each experiment flown along one path in lockstep; writes\n"
            "DIR/report.md, per-frame CSVs, plots and the configuration used (default DIR:\n"
-           "results/<UTC time>). With --suite N: N seeded approaches (scripts/run --suite N -h).",
+           "results/<UTC time>). With --suite N: N seeded approaches (scripts/run --suite N -h).\n"
+           "scripts/run --show-experiment NAME prints an experiment's settings, each with the\n"
+           "file that gives it.",
     "suite": "N seeded approaches (aar_sim's generate_approach, seed S*1000+i: start offset,\n"
              "closure, wander and boom motion vary), each experiment on each, with sensor noise\n"
              "seeded per approach; writes DIR/suite.md (means over approaches with 95 %\n"
@@ -36,7 +38,6 @@ def _names(folder, pattern="*.yaml"):
     return sorted(os.path.basename(p)[:-5] for p in glob.glob(os.path.join(ROOT, folder, pattern)))
 
 
-CHECK_EXPERIMENT = os.path.join(ROOT, "src/aar_ros_common/scripts/check_experiment.py")
 
 
 def _experiments(value, kind):

@@ -1,14 +1,24 @@
 #!/usr/bin/env python3
-"""Checks an experiment file's namespaces before a launch loads it:
-  check_experiment.py FILE
+"""Resolves and checks an experiment file before a launch loads it:
+  check_experiment.py FILE [--resolved OUT]
+  check_experiment.py --show FILE
+  check_experiment.py --redundant FILE...
 An experiment (config/experiments/NAME.yaml) sets parameters of the stages by their node names:
-sim, stereo/aar_stereo, occlusion, registration, eval. Each stage refuses a key it does not know
-(ParamReader), but a namespace no stage reads (a misspelt `registraton:`) would be loaded and
-ignored without a word: this refuses it, naming the file and the namespace, and exits 1.
-On success it prints the checked namespaces (launch files use it as a command parameter, which
-makes roslaunch stop before any node starts when the check fails); the campaign driver runs it
-on every experiment of a campaign before the first run."""
+sim, stereo/aar_stereo, occlusion, registration, eval. It may start from others: `include: BASE`
+or `include: [BASE, ...]` (experiment names, looked up beside FILE, then in config/experiments/)
+loads each base in order, then the file's own keys over them, key by key (cartographer's
+include). Each stage refuses a key it does not know (ParamReader), but a namespace no stage reads
+(a misspelt `registraton:`) would be loaded and ignored without a word: this refuses it, naming
+the file and the namespace, and exits 1; so it does an include that is missing or circular.
+On success it writes the resolved settings to OUT (one YAML, what the launch loads) and prints
+the namespaces (launch files use it as a command parameter, which makes roslaunch stop before
+any node starts when the check fails); the campaign driver runs it on every experiment of a
+campaign before the first run. --show prints every setting as `namespace/key: value  # file`,
+the file that gave it (the experiment's effective settings over the stages' defaults);
+--redundant lists the settings a file gives the value its includes already give (scripts/lint)."""
+import os
 import sys
+import time
 
 import yaml
 
@@ -16,6 +26,12 @@ import yaml
 # means a namespace of namespaces (stereo's node is stereo/aar_stereo).
 STAGES = {"sim": None, "stereo": {"aar_stereo": None}, "occlusion": None, "registration": None,
           "eval": None}
+ROOT = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(__file__)), "../../.."))
+SHIPPED = os.path.join(ROOT, "config/experiments")
+
+
+class Refused(Exception):
+    pass
 
 
 def problems(tree, allowed, where):
@@ -34,21 +50,163 @@ def problems(tree, allowed, where):
     return found
 
 
-def main(argv):
-    if len(argv) != 2:
-        print(__doc__.splitlines()[1].strip(), file=sys.stderr)
-        return 2
+def read(path):
     try:
-        with open(argv[1]) as f:
+        with open(path) as f:
             tree = yaml.safe_load(f) or {}
     except (OSError, yaml.YAMLError) as e:
-        print(f"check_experiment: {argv[1]}: not readable: {e}", file=sys.stderr)
-        return 1
+        raise Refused(f"{path}: not readable: {e}")
+    if not isinstance(tree, dict):
+        raise Refused(f"{path}: the file is not a mapping of namespaces")
+    return tree
+
+
+def base_path(name, including):
+    if not isinstance(name, str) or not name or "/" in name:
+        raise Refused(f"{including}: include takes experiment names, not {name!r}")
+    for folder in (os.path.dirname(os.path.abspath(including)), SHIPPED):
+        path = os.path.join(folder, name + ".yaml")
+        if os.path.isfile(path):
+            return path
+    raise Refused(f"{including}: includes '{name}', but there is no {name}.yaml beside it or in "
+                  f"{SHIPPED}")
+
+
+def merge(into, tree, sources, path, prefix=""):
+    """Puts `tree`'s settings into `into`, key by key; sources[namespace/key] = path."""
+    for key, value in tree.items():
+        name = f"{prefix}/{key}" if prefix else str(key)
+        if isinstance(value, dict) and value:
+            merge(into.setdefault(key, {}), value, sources, path, name)
+        else:
+            into[key] = value
+            sources[name] = path
+
+
+def resolve(path, sources, chain=()):
+    """The settings of the experiment at `path` with its includes; `sources` gets each setting's
+    file."""
+    if os.path.abspath(path) in chain:
+        raise Refused(f"{path}: includes itself (through {' -> '.join(chain)})")
+    tree = read(path)
+    includes = tree.pop("include", [])
+    merged = {}
+    for name in includes if isinstance(includes, list) else [includes]:
+        base = resolve(base_path(name, path), sources, chain + (os.path.abspath(path),))
+        merge(merged, base, {}, path)
     found = problems(tree, STAGES, "")
-    for p in found:
-        print(f"check_experiment: {argv[1]}: {p}", file=sys.stderr)
     if found:
+        raise Refused("\n".join(f"{path}: {p}" for p in found))
+    merge(merged, tree, sources, path)
+    return merged
+
+
+# The stages' defaults under the experiment, as the launch files load them.
+DEFAULTS = {"sim": "sim.yaml", "stereo/aar_stereo": "stereo.yaml", "occlusion": "occlusion.yaml",
+            "registration": "registration.yaml"}
+
+
+def show(path):
+    """Every setting the stages get, `namespace/key: value  # the file that gives it`: the
+    experiment's (with its includes) over config/*.yaml's defaults."""
+    tree, sources = {}, {}
+    config = os.path.dirname(SHIPPED)
+    for ns, name in DEFAULTS.items():
+        node = tree
+        for part in ns.split("/"):
+            node = node.setdefault(part, {})
+        merge(node, read(os.path.join(config, name)), sources, os.path.join(config, name), ns)
+    merge(tree, resolve(path, sources), {}, path)
+    width = max(len(name) for name in sources)
+    for name in sorted(sources):
+        node = tree
+        for part in name.split("/"):
+            node = node[part]
+        where = os.path.abspath(sources[name])  # the workspace's files relative to it
+        where = os.path.relpath(where, ROOT) if where.startswith(ROOT + os.sep) else where
+        print(f"{name + ':':<{width + 1}} {text(node):<12} # {where}")
+
+
+def text(value):
+    """A value as YAML writes it in a flow: true, 0.25, [1.65, 5.6]."""
+    return yaml.safe_dump([value], default_flow_style=True, width=1e9).strip()[1:-1]
+
+
+def redundant(paths):
+    """Copies among experiments, one line each (empty when there is none): a setting a file gives
+    the value its includes already give it, and two files that set more than one setting alike
+    (one line in common is a coincidence, two a copy that stays behind when one changes: what
+    they share belongs in a file both include)."""
+    found, own_of = [], {}
+    for path in paths:
+        tree = read(path)
+        includes = tree.pop("include", [])
+        base = {}
+        for name in includes if isinstance(includes, list) else [includes]:
+            merge(base, resolve(base_path(name, path), {}), {}, path)
+        own = {}
+        merge({}, tree, own, path)
+        own_of[path] = set()
+        for name in sorted(own):
+            node, value = base, tree
+            for part in name.split("/"):
+                node = node.get(part, {}) if isinstance(node, dict) else {}
+                value = value[part]
+            own_of[path].add(f"{name}: {text(value)}")
+            if node == value and not (isinstance(value, dict) and not value):
+                found.append(f"{path}: {name}: {text(value)} is what its includes give it "
+                             "already")
+    for i, a in enumerate(paths):
+        for b in paths[i + 1:]:
+            common = sorted(own_of[a] & own_of[b])
+            if len(common) > 1:
+                found.append(f"{a} and {b} both set {len(common)} settings alike "
+                             f"({'; '.join(common)}): put them in a file both include")
+    return found
+
+
+def write_resolved(tree, path):
+    """`tree` as YAML at `path` (whole or not at all); in the launch's folder of resolved files
+    (/tmp/aar_experiments), those of launches over an hour old are removed."""
+    folder = os.path.dirname(os.path.abspath(path))
+    os.makedirs(folder, exist_ok=True)
+    if os.path.basename(folder) == "aar_experiments":
+        for old in os.listdir(folder):
+            try:
+                if time.time() - os.path.getmtime(os.path.join(folder, old)) > 3600:
+                    os.remove(os.path.join(folder, old))
+            except OSError:
+                pass  # another launch removed it first
+    with open(path + ".tmp", "w") as f:
+        yaml.safe_dump(tree, f, default_flow_style=False)
+    os.replace(path + ".tmp", path)
+
+
+def main(argv):
+    args = argv[1:]
+    try:
+        if len(args) >= 2 and args[0] == "--redundant":
+            found = redundant(args[1:])
+            for line in found:
+                print(f"check_experiment: {line}", file=sys.stderr)
+            return 1 if found else 0
+        if len(args) == 2 and args[0] == "--show":
+            try:
+                show(args[1])
+            except BrokenPipeError:  # a reader that stopped early (| head)
+                sys.stderr.close()
+            return 0
+        if len(args) not in (1, 3) or (len(args) == 3 and args[1] != "--resolved"):
+            print(__doc__.splitlines()[1].strip() + "\n" + __doc__.splitlines()[2].strip(),
+                  file=sys.stderr)
+            return 2
+        tree = resolve(args[0], {})
+    except Refused as e:
+        for line in str(e).splitlines():
+            print(f"check_experiment: {line}", file=sys.stderr)
         return 1
+    if len(args) == 3:
+        write_resolved(tree, args[2])
     print(" ".join(sorted(tree)))
     return 0
 

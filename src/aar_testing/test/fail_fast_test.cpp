@@ -101,6 +101,49 @@ TEST(FailFast, AnExperimentNamespaceNoStageReadsStopsTheLaunchBeforeAnyNode) {
   EXPECT_LT(r.seconds, 5.0 * aar_testing::TimeScale()) << r.output;  // measured 0.8 to 0.9 s
 }
 
+// An experiment starts from others (include): a user's file beside no shipped experiment
+// includes flight and changes one key; the resolved settings are flight's with that key, and
+// --show names the file each setting comes from. A missing include and a circle of includes are
+// named; a launch of an experiment with a missing include stops before any node starts.
+TEST(FailFast, AnExperimentIncludesItsBasesAndAMissingOneIsNamed) {
+  const std::string dir = "/tmp/aar_fail_fast_include";
+  aar_testing::RunCommand("rm -rf " + dir + " && mkdir -p " + dir);
+  const std::string check = "python3 " + aar_testing::WorkspaceRoot() +
+                            "/src/aar_ros_common/scripts/check_experiment.py ";
+  const std::string mine =
+      Write(dir + "/mine.yaml", "include: flight\nregistration:\n  max_sensed_points: 2000\n");
+  auto r = aar_testing::RunCommand(check + mine + " --resolved " + dir + "/resolved.yaml");
+  ASSERT_EQ(r.status, 0) << r.output;
+  const std::string resolved = Read(dir + "/resolved.yaml");
+  for (const char* line : {"  max_sensed_points: 2000\n", "  outline: true\n", "  boom: true\n",
+                           "  alert_overbound_factor:\n", "    matcher: 2\n"})
+    EXPECT_NE(resolved.find(line), std::string::npos) << line << " not in\n" << resolved;
+  r = aar_testing::RunCommand(check + "--show " + mine);
+  EXPECT_TRUE(std::regex_search(r.output, std::regex("registration/max_sensed_points: +2000 +# "
+                                                     "/tmp/aar_fail_fast_include/mine\\.yaml")))
+      << r.output;
+  EXPECT_TRUE(std::regex_search(
+      r.output,
+      std::regex("registration/outline: +true +# config/experiments/tracking_outline.yaml")))
+      << r.output;
+  EXPECT_TRUE(std::regex_search(
+      r.output, std::regex("registration/max_iterations: +[0-9]+ +# config/registration.yaml")))
+      << r.output;
+  r = aar_testing::RunCommand(check + Write(dir + "/lost.yaml", "include: fligth\n"));
+  EXPECT_EQ(r.status, 1) << r.output;
+  EXPECT_NE(r.output.find("lost.yaml: includes 'fligth', but there is no fligth.yaml beside it"),
+            std::string::npos)
+      << r.output;
+  Write(dir + "/a.yaml", "include: b\n");
+  r = aar_testing::RunCommand(check + Write(dir + "/b.yaml", "include: a\n"));
+  EXPECT_EQ(r.status, 1) << r.output;
+  EXPECT_NE(r.output.find("b.yaml: includes itself (through "), std::string::npos) << r.output;
+  r = Fly(dir + "/lost.yaml", dir + "/run");
+  EXPECT_EQ(r.status, 1) << r.output;
+  EXPECT_NE(r.output.find("includes 'fligth'"), std::string::npos) << r.output;
+  EXPECT_LT(r.seconds, 5.0 * aar_testing::TimeScale()) << r.output;
+}
+
 TEST(FailFast, EveryShippedExperimentHasOnlyTheStagesNamespaces) {
   const auto r = aar_testing::RunCommand(
       "for f in " + aar_testing::ConfigDir() + "/experiments/*.yaml; do python3 " +
