@@ -17,8 +17,9 @@ void FrameLedger::Passed(const ros::Time& stamp) {
   Publish(stamp, aar_msgs::FrameOutcome::PASSED, "", "");
 }
 
-void FrameLedger::Dropped(const ros::Time& stamp, const std::string& reason,
-                          const std::string& detail) {
+uint64_t FrameLedger::Dropped(const ros::Time& stamp, const std::string& reason,
+                              const std::string& detail) {
+  uint64_t count = 1;
   {
     std::lock_guard<std::mutex> lock(mutex_);
     auto it = dropped_.begin();
@@ -26,9 +27,10 @@ void FrameLedger::Dropped(const ros::Time& stamp, const std::string& reason,
     if (it == dropped_.end())
       dropped_.emplace_back(reason, 1);
     else
-      ++it->second;
+      count = ++it->second;
   }
   Publish(stamp, aar_msgs::FrameOutcome::DROPPED, reason, detail);
+  return count;
 }
 
 void FrameLedger::Publish(const ros::Time& stamp, uint8_t outcome, const std::string& reason,

@@ -456,7 +456,7 @@ TEST(Tracking, CoastsLosesReacquiresAndResetsOnStampsGoingBack) {
     EXPECT_GT(estimates.by_stamp.at(ros::Time(100.5))->covariance[0], 0.0);
   }
   aar_testing::WaitFor([&] { return diagnostics["frames"] == "15"; }, 5.0);
-  EXPECT_EQ(diagnostics["clouds dropped as out of order"], "1");
+  EXPECT_EQ(diagnostics["ledger: frames dropped: out_of_order"], "1");
   EXPECT_EQ(diagnostics["frames lost"], "1");
   EXPECT_EQ(diagnostics["frames rejected"], "2");
   EXPECT_EQ(diagnostics["frames started"], "3");
@@ -501,7 +501,7 @@ TEST(NewestWins, ABurstOfCloudsIsRegisteredOrCountedNoneLostUnseen) {
     const std::string value = diagnostics[key];
     return value.empty() ? -1 : std::stoi(value);
   };
-  const std::string kSuperseded = "clouds superseded by a newer cloud (skipped while registering)";
+  const std::string kSuperseded = "ledger: frames dropped: superseded";
   aar_testing::WaitFor([&] { return count("frames") + count(kSuperseded) == kBurst + 1; }, 20.0);
   const int frames = count("frames"), superseded = count(kSuperseded);
   std::printf("[ newest wins ] %d clouds: %d registered, %d superseded\n", kBurst + 1, frames,

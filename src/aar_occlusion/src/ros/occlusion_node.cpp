@@ -64,12 +64,12 @@ OcclusionNode::OcclusionNode(ros::NodeHandle nh, ros::NodeHandle private_nh,
     estimates_ = std::make_unique<aar_ros_common::EstimateListener>(nh_, "aar/pose_estimate",
                                                                     options_.common.frames.tanker);
   }
-  if (options_.newest_wins) {
-    stage_ = std::make_unique<aar_ros_common::NewestWins<sensor_msgs::PointCloud2::ConstPtr>>(
-        [this](sensor_msgs::PointCloud2::ConstPtr& msg) { Cull(msg); });
-  }
-  cloud_sub_ = nh_.subscribe("points", options_.newest_wins ? aar_ros_common::kHandOverQueue : 5,
-                             &OcclusionNode::OnCloud, this);
+  using Cloud = sensor_msgs::PointCloud2::ConstPtr;
+  stage_ = std::make_unique<aar_ros_common::Stage<Cloud>>(
+      options_.newest_wins, [this](Cloud& msg) { Cull(msg); },
+      [](const Cloud& msg) { return msg->header.stamp; }, ledger_,
+      aar_ros_common::Stage<Cloud>::Names{"occlusion", "cloud", "culling"});
+  cloud_sub_ = nh_.subscribe("points", stage_->queue(5), &OcclusionNode::OnCloud, this);
   ROS_INFO_STREAM("occlusion: culling " << ToString(options_.step.cull) << ", "
                                         << (step_->boom() ? step_->boom()->parts().size() : 0)
                                         << " boom parts, " << step_->reference_samples()
@@ -80,7 +80,7 @@ OcclusionNode::OcclusionNode(ros::NodeHandle nh, ros::NodeHandle private_nh,
 OcclusionNode::~OcclusionNode() {
   diagnostics_timer_.stop();  // it reads members destroyed before it
   cloud_sub_.shutdown();
-  if (stage_) stage_->Stop();
+  stage_->Stop();
 }
 
 std::optional<Eigen::Isometry3d> OcclusionNode::Lookup(const std::string& frame,
@@ -116,23 +116,7 @@ std::optional<Eigen::Isometry3d> OcclusionNode::PredictedPose(const ros::Time& s
                                          options_.common.estimate_max_age);
 }
 
-void OcclusionNode::OnCloud(const sensor_msgs::PointCloud2::ConstPtr& msg) {
-  if (!stage_) {
-    Cull(msg);
-    return;
-  }
-  std::optional<sensor_msgs::PointCloud2::ConstPtr> replaced;
-  if (stage_->Put(msg, &replaced)) {
-    ++superseded_;
-    if (replaced)
-      ledger_.Dropped((*replaced)->header.stamp, "superseded",
-                      "a newer cloud came while it waited for culling");
-    ROS_WARN_STREAM_THROTTLE(5.0,
-                             "occlusion: a cloud arrived while the previous one still waited "
-                             "for culling: the older one skipped, the newest wins ("
-                                 << superseded_ << " superseded so far)");
-  }
-}
+void OcclusionNode::OnCloud(const sensor_msgs::PointCloud2::ConstPtr& msg) { stage_->Hand(msg); }
 
 void OcclusionNode::Cull(const sensor_msgs::PointCloud2::ConstPtr& msg) {
   const auto start = std::chrono::steady_clock::now();
@@ -241,8 +225,6 @@ void OcclusionNode::Diagnose(diagnostic_updater::DiagnosticStatusWrapper& status
   std::lock_guard<std::mutex> lock(report_mutex_);
   status.add("frames", frames_);
   status.add("frames passed through unculled", unculled_frames_);
-  status.add("clouds superseded by a newer cloud (skipped while culling)",
-             static_cast<uint64_t>(superseded_));
   status.add("frames without a reference", reference_failures_);
   for (const auto& [key, n] : ledger_.Counts()) status.add("ledger: " + key, n);
   status.add("cull method", ToString(options_.step.cull));

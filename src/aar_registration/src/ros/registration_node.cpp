@@ -48,11 +48,13 @@ RegistrationNode::RegistrationNode(ros::NodeHandle nh, ros::NodeHandle private_n
     outline_pub_ = nh_.advertise<geometry_msgs::PoseWithCovarianceStamped>("aar/outline_pose", 10);
   }
   PublishModels();
-  if (options_.newest_wins)
-    stage_ = std::make_unique<aar_ros_common::NewestWins<Input>>(
-        [this](Input& input) { Process(input); });
-  // newest_wins: the callbacks only hand over; the queue takes in a stall (kHandOverQueue).
-  const uint32_t queue = options_.newest_wins ? aar_ros_common::kHandOverQueue : 5;
+  // newest_wins: the callbacks only hand over to the registering thread, where an input still
+  // waiting when a newer one comes is superseded (the ledger counts it).
+  stage_ = std::make_unique<aar_ros_common::Stage<Input>>(
+      options_.newest_wins, [this](Input& input) { Process(input); },
+      [](const Input& input) { return input.points->header.stamp; }, ledger_,
+      aar_ros_common::Stage<Input>::Names{"registration", "cloud", "registration"});
+  const uint32_t queue = stage_->queue(5);
   if (options_.registrar.reference == ReferenceKind::kTopic) {
     // Each cloud is registered to the reference built for its own frame (same stamp).
     points_filter_.subscribe(nh_, "points", queue);
@@ -78,8 +80,7 @@ RegistrationNode::RegistrationNode(ros::NodeHandle nh, ros::NodeHandle private_n
             }
           });
     }
-    cloud_sub_ =
-        nh_.subscribe("points", options_.newest_wins ? queue : 2, &RegistrationNode::OnCloud, this);
+    cloud_sub_ = nh_.subscribe("points", stage_->queue(2), &RegistrationNode::OnCloud, this);
   }
   aar_ros_common::AnnounceStart(private_nh, "registration");
 }
@@ -91,7 +92,7 @@ RegistrationNode::~RegistrationNode() {
   cloud_sub_.shutdown();
   points_filter_.unsubscribe();
   reference_filter_.unsubscribe();
-  if (stage_) stage_->Stop();
+  stage_->Stop();
 }
 
 bool RegistrationNode::TryBuildStaticReference(double tf_wait) {
@@ -185,25 +186,7 @@ void RegistrationNode::OnPair(const sensor_msgs::PointCloud2::ConstPtr& points,
     answered_.insert(points->header.stamp);
     pending_.erase(points->header.stamp);
   }
-  Hand(Input{points, reference});
-}
-
-void RegistrationNode::Hand(Input input) {
-  if (!stage_) {
-    Process(input);
-    return;
-  }
-  std::optional<Input> replaced;
-  if (stage_->Put(std::move(input), &replaced)) {
-    ++superseded_;
-    if (replaced)
-      ledger_.Dropped(replaced->points->header.stamp, "superseded",
-                      "a newer cloud came while it waited for registration");
-    ROS_WARN_STREAM_THROTTLE(5.0,
-                             "registration: a cloud arrived while the previous one still waited "
-                             "for registration: the older one skipped, the newest wins ("
-                                 << superseded_ << " superseded so far)");
-  }
+  stage_->Hand(Input{points, reference});
 }
 
 void RegistrationNode::Process(const Input& input) {
@@ -224,7 +207,7 @@ void RegistrationNode::ReportError(const std::string& what) {
 }
 
 void RegistrationNode::OnCloud(const sensor_msgs::PointCloud2::ConstPtr& msg) {
-  Hand(Input{msg, nullptr});
+  stage_->Hand(Input{msg, nullptr});
 }
 
 void RegistrationNode::Register(const sensor_msgs::PointCloud2::ConstPtr& msg) {
@@ -333,7 +316,6 @@ void RegistrationNode::Publish(const RegistrarResult& result, const ros::Time& s
   {
     std::lock_guard<std::mutex> lock(report_mutex_);
     ++frames_;
-    estimates_ += result.valid;
     last_error_ = result.valid ? "" : result.error;
     if (result.valid && result.integrity.alert) {
       ++integrity_alerts_;
@@ -366,11 +348,9 @@ void RegistrationNode::Publish(const RegistrarResult& result, const ros::Time& s
 void RegistrationNode::Diagnose(diagnostic_updater::DiagnosticStatusWrapper& status) {
   std::lock_guard<std::mutex> lock(report_mutex_);
   status.add("frames", frames_);
-  status.add("frames estimated", estimates_);
-  status.add("clouds dropped as out of order", order_.dropped());
+  // Estimated ("frames passed") and dropped by reason (out_of_order, superseded, no_pose): the
+  // ledger's.
   for (const auto& [key, n] : ledger_.Counts()) status.add("ledger: " + key, n);
-  status.add("clouds superseded by a newer cloud (skipped while registering)",
-             static_cast<uint64_t>(superseded_));
   status.add("tracking", options_.registrar.track);
   for (const auto& [outcome, count] : outcomes_)
     status.add(std::string("frames ") + ToString(outcome), count);

@@ -22,7 +22,8 @@ class FrameLedger {
   FrameLedger(ros::NodeHandle nh, std::string stage);
 
   void Passed(const ros::Time& stamp);
-  void Dropped(const ros::Time& stamp, const std::string& reason, const std::string& detail);
+  // Returns the frames dropped for `reason` so far, this one included (for the stage's warning).
+  uint64_t Dropped(const ros::Time& stamp, const std::string& reason, const std::string& detail);
 
   // ("frames passed", n), then ("frames dropped: REASON", n) per reason, in the order the
   // reasons first occurred; the keys are the stage's /diagnostics keys.

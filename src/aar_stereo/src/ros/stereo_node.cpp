@@ -49,7 +49,10 @@ StereoNode::StereoNode(ros::NodeHandle nh, ros::NodeHandle private_nh,
   }
   // Process-wide: in a nodelet manager it applies to every OpenCV call of every nodelet.
   if (options_.opencv_threads >= 0) cv::setNumThreads(options_.opencv_threads);
-  stage_ = std::make_unique<aar_ros_common::NewestWins<Pair>>([this](Pair& p) { Match(p); });
+  stage_ = std::make_unique<aar_ros_common::Stage<Pair>>(
+      options_.newest_wins, [this](Pair& p) { Match(p); },
+      [](const Pair& p) { return p.left->header.stamp; }, ledger_,
+      aar_ros_common::Stage<Pair>::Names{"stereo", "pair", "matching"});
   reconfigure_.setCallback(
       [this](StereoConfig& config, uint32_t level) { OnReconfigure(config, level); });
   if (options_.approximate_sync) {
@@ -106,9 +109,7 @@ void StereoNode::Connect() {
   std::lock_guard<std::mutex> lock(connect_mutex_);
   const bool wanted = disparity_pub_.getNumSubscribers() > 0 || points_pub_.getNumSubscribers() > 0;
   if (wanted && !subscribed_) {
-    // newest_wins: the callback only hands over; the queue takes in a stall (kHandOverQueue).
-    uint32_t q = static_cast<uint32_t>(options_.queue_size);
-    if (options_.newest_wins) q = std::max(q, aar_ros_common::kHandOverQueue);
+    const uint32_t q = stage_->queue(static_cast<uint32_t>(options_.queue_size));
     left_sub_.subscribe(nh_, "left/image_rect", q);
     left_info_sub_.subscribe(nh_, "left/camera_info", q);
     right_sub_.subscribe(nh_, "right/image_rect", q);
@@ -161,8 +162,7 @@ void StereoNode::OnFrame(const Image::ConstPtr& left, const Info::ConstPtr& left
                   last = std::max({stamp, left_info->header.stamp, right->header.stamp,
                                    right_info->header.stamp});
   if ((last - first).toSec() > options_.max_pair_skew) {
-    ++skewed_;
-    ledger_.Dropped(
+    const uint64_t dropped = ledger_.Dropped(
         stamp, "sync_mismatch",
         "halves " + std::to_string((last - first).toSec()) + " s apart, more than max_pair_skew");
     std::ostringstream s;
@@ -170,18 +170,17 @@ void StereoNode::OnFrame(const Image::ConstPtr& left, const Info::ConstPtr& left
       << " " << right->header.stamp << " (camera infos " << left_info->header.stamp << ", "
       << right_info->header.stamp << ") are " << (last - first).toSec()
       << " s apart, more than max_pair_skew (" << options_.max_pair_skew
-      << " s): pair dropped, is one camera lagging? " << skewed_ << " dropped so far";
+      << " s): pair dropped, is one camera lagging? " << dropped << " dropped for sync so far";
     if (errors_.ShouldLog(s.str())) ROS_WARN_STREAM(s.str());
     return;
   }
   // A pair stamped far ahead of the clock would become the last one taken, and every pair
   // after it would be out of order until the clock passed it. Dropped, named.
   if (const std::string ahead = StampAhead(stamp); !ahead.empty()) {
-    ++ahead_;
-    ledger_.Dropped(stamp, "ahead", ahead);
+    const uint64_t dropped = ledger_.Dropped(stamp, "ahead", ahead);
     const std::string what = "stereo: pair on " + left_sub_.getTopic() + " and " +
                              right_sub_.getTopic() + " dropped: " + ahead;
-    if (errors_.ShouldLog(what)) ROS_WARN_STREAM(what << " (" << ahead_ << " dropped so far)");
+    if (errors_.ShouldLog(what)) ROS_WARN_STREAM(what << " (" << dropped << " dropped so far)");
     return;
   }
   // A pair older than the last one taken came late (out of order): its cloud would reach the
@@ -195,22 +194,7 @@ void StereoNode::OnFrame(const Image::ConstPtr& left, const Info::ConstPtr& left
     return;
   }
   last_taken_ = stamp;
-  if (!options_.newest_wins) {
-    Pair pair{left, right, left_info, right_info};
-    Match(pair);
-    return;
-  }
-  std::optional<Pair> replaced;
-  if (stage_->Put(Pair{left, right, left_info, right_info}, &replaced)) {
-    ++superseded_;
-    if (replaced)
-      ledger_.Dropped(replaced->left->header.stamp, "superseded",
-                      "a newer pair came while it waited for matching");
-    ROS_WARN_STREAM_THROTTLE(5.0,
-                             "stereo: a pair arrived while the previous one still waited "
-                             "for matching: the older one skipped, the newest wins ("
-                                 << superseded_ << " superseded so far)");
-  }
+  stage_->Hand(Pair{left, right, left_info, right_info});
 }
 
 std::string StereoNode::StampAhead(const ros::Time& stamp) const {
@@ -246,12 +230,12 @@ void StereoNode::OnUnpaired(const Image::ConstPtr& left, const Info::ConstPtr& l
     stamp = right->header.stamp;
   else if (right_info)
     stamp = right_info->header.stamp;
-  ++unpaired_;
   const std::string detail = came + " came, no " + missing + " with its stamp";
-  ledger_.Dropped(stamp, "sync_mismatch", detail);
+  const uint64_t dropped = ledger_.Dropped(stamp, "sync_mismatch", detail);
   const std::string what = "stereo: frame " + std::to_string(stamp.toSec()) +
                            " dropped: " + detail + " (exact sync): are the cameras synchronised?";
-  if (errors_.ShouldLog(what)) ROS_WARN_STREAM(what << " (" << unpaired_ << " so far)");
+  if (errors_.ShouldLog(what))
+    ROS_WARN_STREAM(what << " (" << dropped << " dropped for sync so far)");
 }
 
 void StereoNode::Match(Pair& pair) {
@@ -263,12 +247,12 @@ void StereoNode::Match(Pair& pair) {
   if (options_.max_frame_age > 0.0) {
     const double age = (ros::Time::now() - left->header.stamp).toSec();
     if (age > options_.max_frame_age) {
-      ++stale_;
-      ledger_.Dropped(left->header.stamp, "stale",
-                      "waited " + std::to_string(age) + " s, more than max_frame_age");
+      const uint64_t dropped =
+          ledger_.Dropped(left->header.stamp, "stale",
+                          "waited " + std::to_string(age) + " s, more than max_frame_age");
       ROS_WARN_STREAM_THROTTLE(5.0, "stereo: dropping pairs that waited longer than max_frame_age ("
                                         << options_.max_frame_age << " s; this one " << age
-                                        << " s): the graph is behind real time; " << stale_
+                                        << " s): the graph is behind real time; " << dropped
                                         << " dropped so far");
       return;
     }
@@ -440,15 +424,7 @@ void StereoNode::Diagnose(diagnostic_updater::DiagnosticStatusWrapper& status) {
     status.summary(diagnostic_msgs::DiagnosticStatus::OK, frames > 0 ? "processing" : "no input");
   }
   status.add("frames", static_cast<uint64_t>(frames_));
-  status.add("skipped frames", static_cast<uint64_t>(skipped_));
-  status.add("frames dropped as stale (max_frame_age)", static_cast<uint64_t>(stale_));
-  status.add("pairs dropped as out of order", order_.dropped());
-  status.add("pairs dropped, halves apart (max_pair_skew)", static_cast<uint64_t>(skewed_));
-  status.add("pairs superseded by a newer pair (skipped while matching)",
-             static_cast<uint64_t>(superseded_));
-  status.add("pairs dropped as stamped ahead of the clock (max_stamp_lead)",
-             static_cast<uint64_t>(ahead_));
-  status.add("frames never paired (exact sync: a half missing)", static_cast<uint64_t>(unpaired_));
+  // Drops by reason (stale, out_of_order, sync_mismatch, superseded, ahead, error): the ledger's.
   for (const auto& [key, n] : ledger_.Counts()) status.add("ledger: " + key, n);
   if (!options_.rectified_upstream)
     status.add("pairs with distorted camera infos (unrectified?)",

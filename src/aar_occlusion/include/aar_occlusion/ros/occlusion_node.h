@@ -20,7 +20,7 @@
 #include <visualization_msgs/MarkerArray.h>
 
 #include <aar_ros_common/estimate_listener.h>
-#include <aar_ros_common/newest_wins.h>
+#include <aar_ros_common/stage.h>
 
 #include <aar_description/receiver_description.h>
 
@@ -107,13 +107,13 @@ class OcclusionNode {
   uint64_t frames_ = 0, unculled_frames_ = 0, reference_failures_ = 0;
   double last_ms_ = 0.0;
   size_t last_boom_points_ = 0, last_reference_both_ = 0;
-  size_t last_propeller_points_ = 0;     // of the boom points removed: on the propeller discs
-  size_t last_gated_points_ = 0;         // dropped by the receiver gate
-  std::atomic<uint64_t> superseded_{0};  // clouds skipped while culling (a newer one came)
-  aar_ros_common::FrameLedger ledger_;   // every cloud taken in: passed on or dropped, why
+  size_t last_propeller_points_ = 0;  // of the boom points removed: on the propeller discs
+  size_t last_gated_points_ = 0;      // dropped by the receiver gate
+  // Every cloud taken in: passed on or dropped, why; the one count of drops.
+  aar_ros_common::FrameLedger ledger_;
 
   // Last: the culling thread (stopped first in the destructor) uses the members above.
-  std::unique_ptr<aar_ros_common::NewestWins<sensor_msgs::PointCloud2::ConstPtr>> stage_;
+  std::unique_ptr<aar_ros_common::Stage<sensor_msgs::PointCloud2::ConstPtr>> stage_;
 };
 
 }  // namespace aar_occlusion

@@ -11,9 +11,9 @@
 #include <aar_geometry/triangle_mesh.h>
 #include <aar_ros_common/error_throttle.h>
 #include <aar_ros_common/frame_ledger.h>
-#include <aar_ros_common/newest_wins.h>
 #include <aar_ros_common/node_options.h>
 #include <aar_ros_common/param_reader.h>
+#include <aar_ros_common/stage.h>
 #include <aar_ros_common/stamp_order.h>
 #include <diagnostic_updater/diagnostic_updater.h>
 #include <message_filters/subscriber.h>
@@ -74,9 +74,6 @@ class RegistrationNode {
     sensor_msgs::PointCloud2::ConstPtr points, reference;
   };
   void OnCloud(const sensor_msgs::PointCloud2::ConstPtr& msg);
-  // Registers `input` here (newest_wins off) or hands it to the registering thread, where an
-  // input still waiting when a newer one comes is skipped and counted.
-  void Hand(Input input);
   void Process(const Input& input);
   void Register(const sensor_msgs::PointCloud2::ConstPtr& msg);  // mutex_ held
   void OnPair(const sensor_msgs::PointCloud2::ConstPtr& points,
@@ -123,7 +120,7 @@ class RegistrationNode {
   diagnostic_updater::Updater diagnostics_;
   ros::WallTimer diagnostics_timer_;
   std::mutex report_mutex_;  // what diagnostics read
-  size_t frames_ = 0, estimates_ = 0;
+  size_t frames_ = 0;
   std::map<TrackOutcome, size_t> outcomes_;  // tracking: frames by outcome
   std::string last_error_, last_track_reason_;
   size_t integrity_alerts_ = 0;  // poses published in alert (docs/INTEGRITY.md)
@@ -133,12 +130,12 @@ class RegistrationNode {
   std::string last_outline_note_, last_outline_missing_;
   double last_outline_quality_ = 0.0;
   TrackOutcome last_outcome_ = TrackOutcome::kMissed;
-  std::atomic<uint64_t> superseded_{0};  // clouds skipped while registering (a newer one came)
-  aar_ros_common::FrameLedger ledger_;   // every cloud taken in: an estimate or dropped, why
+  // Every cloud taken in: an estimate or dropped, why; the one count of estimates and drops.
+  aar_ros_common::FrameLedger ledger_;
 
   // Last: the registering thread (newest_wins; stopped first in the destructor) uses the members
   // above.
-  std::unique_ptr<aar_ros_common::NewestWins<Input>> stage_;
+  std::unique_ptr<aar_ros_common::Stage<Input>> stage_;
 };
 
 }  // namespace aar_registration

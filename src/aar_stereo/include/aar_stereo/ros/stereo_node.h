@@ -5,9 +5,9 @@
 #include <aar_ros_common/error_throttle.h>
 #include <aar_ros_common/estimate_listener.h>
 #include <aar_ros_common/frame_ledger.h>
-#include <aar_ros_common/newest_wins.h>
 #include <aar_ros_common/node_options.h>
 #include <aar_ros_common/param_reader.h>
+#include <aar_ros_common/stage.h>
 #include <aar_ros_common/stamp_order.h>
 #include <atomic>
 #include <map>
@@ -167,12 +167,12 @@ class StereoNode {
   ros::WallTimer input_timer_;
 
   diagnostic_updater::Updater diagnostics_;
-  std::atomic<uint64_t> frames_{0}, skipped_{0}, stale_{0}, skewed_{0}, superseded_{0};
+  std::atomic<uint64_t> frames_{0}, skipped_{0};
   std::atomic<uint64_t> distorted_{0};  // pairs whose camera infos had a non-zero D
-  std::atomic<uint64_t> ahead_{0}, unpaired_{0};
-  aar_ros_common::FrameLedger ledger_;  // every pair taken in: passed or dropped, why
-  aar_ros_common::StampOrder order_;    // pairs are taken in stamp order
-  ros::Time last_taken_;                // the last pair's stamp (OnFrame: the synchroniser's lock)
+  // Every pair taken in: passed or dropped, why; the one count of drops (/diagnostics "ledger: ").
+  aar_ros_common::FrameLedger ledger_;
+  aar_ros_common::StampOrder order_;  // pairs are taken in stamp order
+  ros::Time last_taken_;              // the last pair's stamp (OnFrame: the synchroniser's lock)
   std::mutex stats_mutex_;
   StereoTimings last_timings_;
   size_t last_points_ = 0;
@@ -193,7 +193,7 @@ class StereoNode {
   std::string last_roi_why_;  // why the last frame was matched whole
 
   // Last: the matching thread (stopped first in the destructor) uses the members above.
-  std::unique_ptr<aar_ros_common::NewestWins<Pair>> stage_;
+  std::unique_ptr<aar_ros_common::Stage<Pair>> stage_;
 };
 
 }  // namespace aar_stereo
