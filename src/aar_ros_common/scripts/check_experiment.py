@@ -169,7 +169,10 @@ def write_resolved(tree, path):
     """`tree` as YAML at `path` (whole or not at all); in the launch's folder of resolved files
     (/tmp/aar_experiments), those of launches over an hour old are removed."""
     folder = os.path.dirname(os.path.abspath(path))
-    os.makedirs(folder, exist_ok=True)
+    if not os.path.isdir(folder):
+        os.makedirs(folder, exist_ok=True)
+        if os.path.basename(folder) == "aar_experiments":
+            os.chmod(folder, 0o1777)  # shared by the machine's users, as /tmp is
     if os.path.basename(folder) == "aar_experiments":
         for old in os.listdir(folder):
             try:
@@ -206,7 +209,11 @@ def main(argv):
             print(f"check_experiment: {line}", file=sys.stderr)
         return 1
     if len(args) == 3:
-        write_resolved(tree, args[2])
+        try:
+            write_resolved(tree, args[2])
+        except OSError as e:
+            print(f"check_experiment: cannot write {args[2]}: {e.strerror}", file=sys.stderr)
+            return 1
     print(" ".join(sorted(tree)))
     return 0
 
