@@ -1,9 +1,9 @@
 """A campaign: its runs, its folder, what it records about itself (campaign.json, run.txt), and
 the lock that keeps two drivers out of one folder."""
 import dataclasses
+import errno
 import fcntl
 import json
-import errno
 import os
 import shutil
 import subprocess

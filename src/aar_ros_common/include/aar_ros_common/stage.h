@@ -37,7 +37,6 @@ class Stage {
     if (newest_wins) worker_ = std::make_unique<NewestWins<T>>(std::move(work));
   }
 
-  bool newest_wins() const { return worker_ != nullptr; }
   // The subscriber queue this hand-over needs: `inline_queue`, and with a worker at least
   // kHandOverQueue (the callback only hands over; the queue takes in a stall).
   uint32_t queue(uint32_t inline_queue) const {
