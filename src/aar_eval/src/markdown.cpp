@@ -1,5 +1,6 @@
 #include "markdown.h"
 
+#include <algorithm>
 #include <fstream>
 #include <iomanip>
 #include <sstream>
@@ -34,7 +35,15 @@ void WriteRunSection(std::ostream& out, const std::string& dir) {
     out << "## Run\n\n```\n" << run.rdbuf() << "```\n\n";
 }
 
-std::string OutsideRegionsNote(const std::string& experiment, size_t outside, size_t frames) {
+std::string OutsideRegionsNote(const std::string& experiment,
+                               const std::vector<const std::vector<FrameRecord>*>& runs) {
+  size_t outside = 0, frames = 0;
+  for (const std::vector<FrameRecord>* run : runs) {
+    frames += run->size();
+    outside += std::count_if(run->begin(), run->end(), [](const FrameRecord& f) {
+      return f.region == aar_geometry::Region::kOutside;
+    });
+  }
   if (outside == 0) return "";
   return experiment + ": " + std::to_string(outside) + " of " + std::to_string(frames) +
          " frames outside the regions (a range under 32 m or over 175 m, or not finite), in no "

@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "aar_eval/tables.h"
+
 namespace aar_eval {
 
 enum class Align { kLeft, kRight };
@@ -57,7 +59,9 @@ std::string Fixed(double value, int digits);
 // "## Run" and DIR/run.txt in a code block, if DIR has a run.txt that is not empty.
 void WriteRunSection(std::ostream& out, const std::string& dir);
 
-// "E: N of M frames outside the regions (...), in no table", or "" when N is 0.
-std::string OutsideRegionsNote(const std::string& experiment, size_t outside, size_t frames);
+// "E: N of M frames outside the regions (...), in no table" over `runs` (one run's frames, or
+// every approach's), or "" when N is 0.
+std::string OutsideRegionsNote(const std::string& experiment,
+                               const std::vector<const std::vector<FrameRecord>*>& runs);
 
 }  // namespace aar_eval

@@ -79,10 +79,7 @@ void WriteCoverageNotes(std::ostream& out, const std::string& dir, Experiments& 
   std::vector<std::string> notes;
   for (const auto& e : x.done) {
     const auto& records = x.records[e];
-    const auto outside = std::count_if(records.begin(), records.end(), [](const FrameRecord& f) {
-      return f.region == aar_geometry::Region::kOutside;
-    });
-    const std::string note = OutsideRegionsNote(e, outside, records.size());
+    const std::string note = OutsideRegionsNote(e, {&records});
     if (!note.empty()) notes.push_back(note);
     const std::string short_of_plan = ShortOfPlan(ReadPlannedRun(dir + "/" + e), records.size());
     if (!short_of_plan.empty()) {

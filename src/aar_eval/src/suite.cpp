@@ -150,16 +150,12 @@ void WriteOutsideNotes(std::ostream& out, const SuiteReportOptions& options,
                        const ApproachRecords& records) {
   bool any = false;
   for (const auto& e : options.experiments) {
-    size_t outside = 0, frames = 0;
+    std::vector<const std::vector<FrameRecord>*> runs;
     for (const auto& [a, by_e] : records) {
       const auto it = by_e.find(e);
-      if (it == by_e.end()) continue;
-      frames += it->second.size();
-      outside += std::count_if(it->second.begin(), it->second.end(), [](const FrameRecord& f) {
-        return f.region == aar_geometry::Region::kOutside;
-      });
+      if (it != by_e.end()) runs.push_back(&it->second);
     }
-    const std::string note = OutsideRegionsNote(e, outside, frames);
+    const std::string note = OutsideRegionsNote(e, runs);
     if (!note.empty()) out << (any ? "" : "\n") << "- " << note << "\n";
     any |= !note.empty();
   }

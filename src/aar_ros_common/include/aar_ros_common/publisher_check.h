@@ -35,7 +35,6 @@ class PublisherCheck {
   std::string Describe(const std::vector<std::string>& strangers) const;
 
   const std::string& node() const { return node_; }
-  const std::string& node_uri() const { return node_uri_; }  // as last looked up ("" if never)
 
  private:
   bool
