@@ -95,6 +95,30 @@ std::vector<SettledFrame> Evaluator::SettleAll(const TruthLookup& truth) {
   return out;
 }
 
+bool Evaluator::AddVisibility(int64_t stamp_ns, const std::vector<CameraVisibility>& views) {
+  if (settled_.count(stamp_ns)) return false;
+  visibility_[stamp_ns] = views;
+  return true;
+}
+
+namespace {
+
+// The view that saw most of the receiver, into the frame's record (0 pixels and a NaN fraction
+// when none saw it).
+void TakeBestView(const std::vector<CameraVisibility>& views, FrameRecord& f) {
+  f.visible_px = 0.0;
+  for (const CameraVisibility& v : views) {
+    if (v.silhouette_px <= 0) continue;
+    const double fraction = static_cast<double>(v.visible_px) / v.silhouette_px;
+    if (std::isnan(f.visible_fraction) || fraction > f.visible_fraction) {
+      f.visible_fraction = fraction;
+      f.visible_px = v.visible_px;
+    }
+  }
+}
+
+}  // namespace
+
 SettledFrame Evaluator::SettleFront(const TruthLookup& truth) {
   SettledFrame s;
   s.stamp_ns = frames_.front().stamp_ns;
@@ -115,10 +139,13 @@ SettledFrame Evaluator::SettleFront(const TruthLookup& truth) {
   s.ledger.stamp_ns = s.stamp_ns;
   s.ledger.t = s.record.t;
   ledger_.push_back(s.ledger);
+  const auto visibility = visibility_.find(s.stamp_ns);
+  if (visibility != visibility_.end()) TakeBestView(visibility->second, s.record);
   if (T_truth) Score(*T_truth, s);
   if (estimate != estimates_.end()) estimates_.erase(estimate);
   // Reports on this frame and on any older, never announced one are done with.
   outcomes_.erase(outcomes_.begin(), outcomes_.upper_bound(s.stamp_ns));
+  visibility_.erase(visibility_.begin(), visibility_.upper_bound(s.stamp_ns));
   return s;
 }
 

@@ -83,12 +83,13 @@ FrameColumn EstimateNumberColumn(const std::string& name, double FrameRecord::*n
       [number](const CsvLine& l, size_t i, FrameRecord& f) { f.*number = l.Number(i); }};
 }
 
-constexpr size_t kColumnsBeforeTracking = 14;   // up to registration_ms
-constexpr size_t kColumnsBeforeHold = 16;       // up to nees
-constexpr size_t kColumnsBeforeIntegrity = 23;  // up to published_yaw_deg
+constexpr size_t kColumnsBeforeTracking = 14;    // up to registration_ms
+constexpr size_t kColumnsBeforeHold = 16;        // up to nees
+constexpr size_t kColumnsBeforeIntegrity = 23;   // up to published_yaw_deg
+constexpr size_t kColumnsBeforeVisibility = 28;  // up to alert
 
 // The columns in the file's order. Earlier runs wrote only the first kColumnsBeforeTracking,
-// kColumnsBeforeHold or kColumnsBeforeIntegrity.
+// kColumnsBeforeHold, kColumnsBeforeIntegrity or kColumnsBeforeVisibility.
 const std::vector<FrameColumn>& FrameColumns() {
   static const std::vector<FrameColumn> columns = [] {
     std::vector<FrameColumn> c = {
@@ -136,6 +137,9 @@ const std::vector<FrameColumn>& FrameColumns() {
     c.push_back(EstimateNumberColumn("al_position_m", &FrameRecord::al_position_m));
     c.push_back(EstimateNumberColumn("al_attitude_deg", &FrameRecord::al_attitude_deg));
     c.push_back(FlagColumn("alert", &FrameRecord::alert));
+    // Since visibility (issue 44): what the boom left of the receiver in view (NaN: not measured).
+    c.push_back(NumberColumn("visible_fraction", &FrameRecord::visible_fraction));
+    c.push_back(NumberColumn("visible_px", &FrameRecord::visible_px));
     return c;
   }();
   return columns;
@@ -150,8 +154,8 @@ std::string HeaderOf(size_t n) {
 
 // How many columns a file with this header line has; 0 when it is no frame CSV header.
 size_t ColumnsOfHeader(const std::string& line) {
-  for (size_t n :
-       {FrameColumns().size(), kColumnsBeforeTracking, kColumnsBeforeHold, kColumnsBeforeIntegrity})
+  for (size_t n : {FrameColumns().size(), kColumnsBeforeTracking, kColumnsBeforeHold,
+                   kColumnsBeforeIntegrity, kColumnsBeforeVisibility})
     if (line == HeaderOf(n)) return n;
   return 0;
 }

@@ -16,6 +16,7 @@
 #include "integrity_section.h"
 #include "markdown.h"
 #include "run_record.h"
+#include "visibility_section.h"
 
 namespace aar_eval {
 
@@ -218,6 +219,10 @@ ReportResult WriteReport(const ReportOptions& options) {
   std::ofstream out(result.path);
   WriteIntroduction(out, options.dir);
   WriteCoverage(out, options.dir, x);
+  std::vector<ExperimentRuns> runs;
+  for (const auto& e : x.done) runs.push_back({e, {&x.records[e]}});
+  const std::string visibility = VisibilitySection(runs);
+  if (!visibility.empty()) out << visibility << "\n";
   if (!x.baseline.empty()) WriteHeadline(out, x);
   WriteErrorTables(out, x);
   const IntegrityOptions integrity{options.protection_level_scale};

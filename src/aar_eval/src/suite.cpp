@@ -18,6 +18,7 @@
 #include "integrity_section.h"
 #include "markdown.h"
 #include "run_record.h"
+#include "visibility_section.h"
 
 namespace aar_eval {
 namespace {
@@ -144,23 +145,32 @@ void WriteIntroduction(std::ostream& out, const SuiteReportOptions& options,
       << " % Student-t confidence interval in brackets; approaches are independent samples.\n\n";
 }
 
-// Share of frames with an estimate of their own, per region.
-// A line per experiment with frames outside the regions, over all approaches: in no table.
-void WriteOutsideNotes(std::ostream& out, const SuiteReportOptions& options,
-                       const ApproachRecords& records) {
-  bool any = false;
+// Each experiment's runs, one per approach that has it, in the options' order.
+std::vector<ExperimentRuns> RunsPerExperiment(const SuiteReportOptions& options,
+                                              const ApproachRecords& records) {
+  std::vector<ExperimentRuns> out;
   for (const auto& e : options.experiments) {
-    std::vector<const std::vector<FrameRecord>*> runs;
+    ExperimentRuns runs{e, {}};
     for (const auto& [a, by_e] : records) {
       const auto it = by_e.find(e);
-      if (it != by_e.end()) runs.push_back(&it->second);
+      if (it != by_e.end()) runs.second.push_back(&it->second);
     }
+    out.push_back(runs);
+  }
+  return out;
+}
+
+// A line per experiment with frames outside the regions, over all approaches: in no table.
+void WriteOutsideNotes(std::ostream& out, const std::vector<ExperimentRuns>& experiments) {
+  bool any = false;
+  for (const auto& [e, runs] : experiments) {
     const std::string note = OutsideRegionsNote(e, runs);
     if (!note.empty()) out << (any ? "" : "\n") << "- " << note << "\n";
     any |= !note.empty();
   }
 }
 
+// Share of frames with an estimate of their own, per region.
 void WriteCoverage(std::ostream& out, const SuiteReportOptions& options, const SuiteStats& stats) {
   out << "## Coverage\n\nShare of frames with an estimate of their own (%; the interval clipped "
          "to 0-100).\n\n";
@@ -350,7 +360,10 @@ SuiteReportResult WriteSuiteReport(const SuiteReportOptions& options) {
   std::ofstream out(result.path);
   WriteIntroduction(out, options, result);
   WriteCoverage(out, options, stats);
-  WriteOutsideNotes(out, options, records);
+  const std::vector<ExperimentRuns> runs = RunsPerExperiment(options, records);
+  WriteOutsideNotes(out, runs);
+  const std::string visibility = VisibilitySection(runs);
+  if (!visibility.empty()) out << "\n" << visibility;
   WriteErrorMagnitudes(out, options, stats);
   WriteWrongLocks(out, options, records);
   WritePairedImprovements(out, options, records, stats);

@@ -2,10 +2,12 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <vector>
 
 #include <aar_geometry/load_error.h>
 
@@ -137,6 +139,40 @@ TEST(Report, FramesOutsideTheRegionsAndAShortRunAreNamed) {
   std::filesystem::remove_all(dir);
 }
 
+// Coverage against visibility (issue 44): frames binned by the visible share of the receiver,
+// per region; a run without any measured frame has no such section.
+TEST(Report, CoverageAgainstVisibilityPerRegionAndBin) {
+  const std::string dir = testing::TempDir() + "/aar_eval_report_visibility";
+  std::filesystem::remove_all(dir);
+  for (const char* e : {"naive", "dynamic"}) std::filesystem::create_directories(dir + "/" + e);
+  std::vector<FrameRecord> frames = {Frame(1.0, 0.4), Frame(1.1, 0.4, false),
+                                     Frame(1.2, 0.4, false), Frame(1.3, 0.4), Frame(1.4, 0.4)};
+  const double fractions[] = {0.1, 0.3, 0.8, 1.0, std::nan("")};
+  for (size_t i = 0; i < frames.size(); ++i) {
+    frames[i].visible_fraction = fractions[i];
+    frames[i].visible_px = std::isnan(fractions[i]) ? 0.0 : 500.0 * fractions[i];
+  }
+  frames[4].region = aar_geometry::Region::kA;
+  frames[4].range_m = 150.0;
+  WriteFrameCsv(dir + "/naive/frames.csv", frames);
+  WriteFrameCsv(dir + "/dynamic/frames.csv", {Frame(1.0, 0.2)});  // not measured
+  const std::string report = Read(WriteReport({dir, {"naive", "dynamic"}, "naive"}).path);
+  EXPECT_NE(report.find("| experiment | region | 0-25 % | 25-50 % | 50-75 % | >= 75 % | in no "
+                        "view |"),
+            std::string::npos)
+      << report;
+  EXPECT_NE(report.find("| naive | A | - | - | - | - | 1 / 1 |"), std::string::npos) << report;
+  EXPECT_NE(report.find("| naive | C | 1 / 1 | 0 / 1 | - | 1 / 2 | - |"), std::string::npos)
+      << report;
+  EXPECT_NE(report.find("| naive | all | 1 / 1 | 0 / 1 | - | 1 / 2 | 1 / 1 |"), std::string::npos)
+      << report;
+  EXPECT_EQ(report.find("| dynamic | C |"), std::string::npos) << report;
+  WriteFrameCsv(dir + "/naive/frames.csv", {Frame(1.0, 0.4)});
+  EXPECT_EQ(Read(WriteReport({dir, {"naive", "dynamic"}, "naive"}).path).find("visibility"),
+            std::string::npos);
+  std::filesystem::remove_all(dir);
+}
+
 // A full disk (report.md on /dev/full, which refuses every write with ENOSPC): the report was
 // once a 0-byte file and exit 0, the write being buffered past the check. Now an error naming it;
 // the same for frames.csv.
@@ -188,7 +224,7 @@ TEST(Report, MakeReportToolOnMismatchedFrameSetsAndBadInput) {
 
   std::ofstream(dir + "/broken/frames.csv") << FrameCsvHeader() << "\n0,36,C,1\n";
   EXPECT_NE(run(dir + " naive,broken naive"), 0);
-  EXPECT_NE(Read(dir + "/out.txt").find("broken/frames.csv: line 2: 4 cells, 28 expected"),
+  EXPECT_NE(Read(dir + "/out.txt").find("broken/frames.csv: line 2: 4 cells, 30 expected"),
             std::string::npos)
       << Read(dir + "/out.txt");
   EXPECT_NE(run(dir + " nothing"), 0);

@@ -186,16 +186,17 @@ TEST(Tables, CsvRoundTripAndErrors) {
     }
   };
   const std::string header = FrameCsvHeader() + "\n";
-  const std::string held = ",1,0,0,0,0,0,0,nan,nan,nan,nan,0\n";
+  const std::string held = ",1,0,0,0,0,0,0,nan,nan,nan,nan,0,nan,nan\n";
   expect("t,x\n", "line 1: not a frame CSV header");
-  expect(header + "0,150,A,1\n", "line 2: 4 cells, 28 expected");
+  expect(header + "0,150,A,1\n", "line 2: 4 cells, 30 expected");
   expect(header + "0,150,A,1,abc,0,0,0,0,0,1,1,0,0,off,1" + held, "line 2: 'abc' is not a number");
   expect(header + "0,50,A,1,0,0,0,0,0,0,1,1,0,0,off,1" + held,
          "line 2: region 'A' does not match range 50");
   expect(header + "0,150,A,1,0,0,0,0,0,0,1,1,0,0,off,x" + held, "line 2: 'x' is not a number");
-  expect(header + "0,150,A,1,0,0,0,0,0,0,1,1,0,0,off,1,0,nan,nan,nan,nan,nan,nan,1,1,1,1,0\n",
-         "line 2: estimated but not published");
-  expect(header + "0,150,A,1,0,0,0,0,0,0,1,1,0,0,off,1,1,0,0,0,0,0,0,1,x,1,1,0\n",
+  expect(
+      header + "0,150,A,1,0,0,0,0,0,0,1,1,0,0,off,1,0,nan,nan,nan,nan,nan,nan,1,1,1,1,0,nan,nan\n",
+      "line 2: estimated but not published");
+  expect(header + "0,150,A,1,0,0,0,0,0,0,1,1,0,0,off,1,1,0,0,0,0,0,0,1,x,1,1,0,nan,nan\n",
          "line 2: 'x' is not a number");
 }
 
@@ -204,7 +205,8 @@ TEST(Tables, CsvRoundTripAndErrors) {
 TEST(Tables, IntegrityColumnsRoundTripAndTheOlderHeaderReads) {
   const std::string header = FrameCsvHeader();
   EXPECT_EQ(header.substr(header.find(",published_yaw_deg")),
-            ",published_yaw_deg,pl_position_m,pl_attitude_deg,al_position_m,al_attitude_deg,alert");
+            ",published_yaw_deg,pl_position_m,pl_attitude_deg,al_position_m,al_attitude_deg,alert,"
+            "visible_fraction,visible_px");
   FrameRecord f;
   f.t = 1.5;
   f.range_m = 36.0;
@@ -239,17 +241,18 @@ TEST(Tables, IntegrityColumnsRoundTripAndTheOlderHeaderReads) {
     EXPECT_TRUE(std::isnan(g.al_attitude_deg));
     EXPECT_FALSE(g.alert);
   }
-  EXPECT_EQ(FrameCsvRow(f).substr(FrameCsvRow(f).rfind(",3,") + 3), "0.75,1.125,1,inf,1");
+  EXPECT_EQ(FrameCsvRow(f).substr(FrameCsvRow(f).rfind(",3,") + 3), "0.75,1.125,1,inf,1,nan,nan");
   // A frame not estimated writes no levels whatever its record holds.
   FrameRecord stale = f;
   stale.estimated = false;
-  EXPECT_EQ(FrameCsvRow(stale).substr(FrameCsvRow(stale).rfind(",3,") + 3), "nan,nan,nan,nan,1");
-  // The file of the previous format: every column up to published_yaw_deg.
+  EXPECT_EQ(FrameCsvRow(stale).substr(FrameCsvRow(stale).rfind(",3,") + 3),
+            "nan,nan,nan,nan,1,nan,nan");
+  // The file of the format before integrity: every column up to published_yaw_deg.
   std::ifstream in(path);
   std::string text, line;
   while (std::getline(in, line)) {
     size_t end = line.size();
-    for (int i = 0; i < 5; ++i) end = line.rfind(',', end - 1);
+    for (int i = 0; i < 7; ++i) end = line.rfind(',', end - 1);
     text += line.substr(0, end) + "\n";
   }
   const auto older = ReadFrameCsv(Write("older.csv", text));
@@ -263,9 +266,44 @@ TEST(Tables, IntegrityColumnsRoundTripAndTheOlderHeaderReads) {
   for (size_t i = 0; i < 3; ++i) {
     const std::string row = FrameCsvRow(again[i]);
     size_t end = row.size();
-    for (int k = 0; k < 5; ++k) end = row.rfind(',', end - 1);
+    for (int k = 0; k < 7; ++k) end = row.rfind(',', end - 1);
     EXPECT_NE(text.find(row.substr(0, end) + "\n"), std::string::npos) << row;
   }
+}
+
+// Visibility (issue 44): measured frames keep their fraction and pixels, a receiver in no view
+// has 0 pixels and no fraction, an unmeasured frame neither; a file from before it reads as
+// unmeasured.
+TEST(Tables, VisibilityColumnsRoundTripAndTheOlderHeaderReads) {
+  FrameRecord seen;
+  seen.range_m = 150.0;
+  seen.region = aar_geometry::Region::kA;
+  seen.visible_fraction = 0.375;
+  seen.visible_px = 1200;
+  FrameRecord in_no_view = seen;
+  in_no_view.visible_fraction = std::numeric_limits<double>::quiet_NaN();
+  in_no_view.visible_px = 0;
+  FrameRecord unmeasured = seen;
+  unmeasured.visible_fraction = unmeasured.visible_px = std::numeric_limits<double>::quiet_NaN();
+  const std::string path =
+      std::filesystem::temp_directory_path().string() + "/aar_eval_visibility.csv";
+  WriteFrameCsv(path, {seen, in_no_view, unmeasured});
+  const auto again = ReadFrameCsv(path);
+  ASSERT_EQ(again.size(), 3u);
+  EXPECT_EQ(again[0].visible_fraction, 0.375);
+  EXPECT_EQ(again[0].visible_px, 1200);
+  EXPECT_TRUE(std::isnan(again[1].visible_fraction));
+  EXPECT_EQ(again[1].visible_px, 0);
+  EXPECT_TRUE(std::isnan(again[2].visible_fraction));
+  EXPECT_TRUE(std::isnan(again[2].visible_px));
+  std::ifstream in(path);
+  std::string text, line;
+  while (std::getline(in, line))
+    text += line.substr(0, line.rfind(',', line.rfind(',') - 1)) + "\n";
+  const auto older = ReadFrameCsv(Write("older_visibility.csv", text));
+  ASSERT_EQ(older.size(), 3u);
+  EXPECT_TRUE(std::isnan(older[0].visible_px));
+  EXPECT_EQ(older[0].region, aar_geometry::Region::kA);
 }
 
 }  // namespace

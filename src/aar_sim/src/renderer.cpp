@@ -3,6 +3,8 @@
 // propellers, read-back). The GLSL is in the package's shaders/ directory.
 #include "aar_sim/renderer.h"
 
+#include <utility>
+
 #include "renderer/gl_state.h"
 #include "renderer/shaders.h"
 
@@ -142,6 +144,17 @@ RenderedView Renderer::Render(const Eigen::Isometry3d& T_tanker_optical,
   RenderedView view = render::ReadView(options_.intrinsics, want_label, want_depth);
   render::CheckGl("render");
   return view;
+}
+
+Image<uint8_t> Renderer::RenderLabel(const Eigen::Isometry3d& T_tanker_optical,
+                                     const std::vector<DrawItem>& items) {
+  render::CurrentContext current(gl_->egl);
+  render::ClearToSky(options_, *gl_);
+  // The label does not depend on the light: the shadow map is neither updated nor needed.
+  render::DrawMeshes(options_, T_tanker_optical, Eigen::Matrix4d::Identity(), items, *gl_);
+  RenderedView view = render::ReadView(options_.intrinsics, true, false);
+  render::CheckGl("label render");
+  return std::move(view.label);
 }
 
 }  // namespace aar_sim

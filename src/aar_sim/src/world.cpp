@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -155,6 +156,37 @@ StereoFrame World::Render(const FlightPathRow& row, const BoomPose& boom, uint64
     CropView(frame.right, view_margin_);
   }
   return frame;
+}
+
+double ViewVisibility::fraction() const {
+  return silhouette_px > 0 ? static_cast<double>(visible_px) / silhouette_px
+                           : std::numeric_limits<double>::quiet_NaN();
+}
+
+std::array<ViewVisibility, 2> World::MeasureVisibility(const StereoFrame& frame) {
+  if (frame.left.label.data.empty() || frame.right.label.data.empty()) {
+    throw std::invalid_argument("visibility needs the frame's label (render it with want_label)");
+  }
+  const std::vector<DrawItem> receiver_alone = {{receiver_handle_, frame.T_tanker_receiver}};
+  std::array<ViewVisibility, 2> out;
+  for (int camera = 0; camera < 2; ++camera) {
+    const Image<uint8_t>& scene = camera == 0 ? frame.left.label : frame.right.label;
+    const Image<uint8_t> alone =
+        Crop(renderer_.RenderLabel(camera == 0 ? options_.rig.T_tanker_left_optical
+                                               : options_.rig.T_tanker_right_optical(),
+                                   receiver_alone),
+             view_margin_);
+    if (alone.data.size() != scene.data.size()) {
+      throw std::logic_error("visibility: the receiver's label is not the frame's size");
+    }
+    ViewVisibility& v = out[camera];
+    for (size_t i = 0; i < alone.data.size(); ++i) {
+      if (alone.data[i] != static_cast<uint8_t>(Label::kReceiver)) continue;
+      ++v.silhouette_px;
+      if (scene.data[i] != static_cast<uint8_t>(Label::kBoom)) ++v.visible_px;
+    }
+  }
+  return out;
 }
 
 std::vector<PropellerItem> World::Propellers(const FlightPathRow& row) const {

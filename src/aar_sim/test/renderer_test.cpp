@@ -1,6 +1,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 
@@ -217,6 +219,47 @@ TEST(Renderer, BoomOccludesAndIsLabelled) {
   EXPECT_GT(count(a.left.label, Label::kBoom), 1000);
   EXPECT_EQ(count(b.left.label, Label::kBoom), 0);
   EXPECT_LT(count(a.left.label, Label::kReceiver), count(b.left.label, Label::kReceiver));
+}
+
+// Visibility: the receiver drawn alone is the boomless scene's receiver, and what the boom
+// leaves of it is the receiver's pixels in the scene with the boom. Raw cameras count in the
+// rectified view as the pinhole world does.
+TEST(Renderer, VisibilityCountsWhatTheBoomLeavesOfTheReceiver) {
+  WorldOptions raw_options = TestWorld(true);
+  raw_options.raw = DefaultRawCameraOptions();
+  raw_options.raw.enabled = true;
+  World with(TestWorld(true)), without(TestWorld(false)), raw(raw_options);
+  const FlightPathRow row = Receiver(-35.0, 0.0, -10.3, 0.0);
+  const StereoFrame a = with.Render(row, DefaultBoomPose(), 0, true);
+  const StereoFrame b = without.Render(row, DefaultBoomPose(), 0, true);
+  auto count = [](const Image<uint8_t>& label, Label l) {
+    return static_cast<int>(std::count(label.data.begin(), label.data.end(), uint8_t(l)));
+  };
+  const std::array<ViewVisibility, 2> seen = with.MeasureVisibility(a);
+  EXPECT_EQ(seen[0].silhouette_px, count(b.left.label, Label::kReceiver));
+  EXPECT_EQ(seen[1].silhouette_px, count(b.right.label, Label::kReceiver));
+  EXPECT_EQ(seen[0].visible_px, count(a.left.label, Label::kReceiver));
+  EXPECT_EQ(seen[1].visible_px, count(a.right.label, Label::kReceiver));
+  // Near contact the boom's tube covers the fuselage's nose: measured 0.963 of it left.
+  EXPECT_LT(seen[0].fraction(), 0.97);
+  EXPECT_GT(seen[0].fraction(), 0.955);
+  const std::array<ViewVisibility, 2> bare = without.MeasureVisibility(b);
+  EXPECT_EQ(bare[0].fraction(), 1.0);
+  EXPECT_EQ(bare[1].visible_px, bare[1].silhouette_px);
+  const std::array<ViewVisibility, 2> through_lenses =
+      raw.MeasureVisibility(raw.Render(row, DefaultBoomPose(), 0, true));
+  EXPECT_NEAR(through_lenses[0].silhouette_px, seen[0].silhouette_px, 0.01 * seen[0].silhouette_px);
+  // Out of view: no silhouette, no fraction. Without the label: named.
+  const StereoFrame behind =
+      with.Render(Receiver(35.0, 0.0, -10.0, 0.0), DefaultBoomPose(), 0, true);
+  EXPECT_EQ(with.MeasureVisibility(behind)[0].silhouette_px, 0);
+  EXPECT_TRUE(std::isnan(with.MeasureVisibility(behind)[0].fraction()));
+  try {
+    with.MeasureVisibility(with.Render(row, DefaultBoomPose(), 0));
+    ADD_FAILURE() << "a frame without its label was measured";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("want_label"), std::string::npos) << e.what();
+  }
 }
 
 TEST(Renderer, BoomPoseFromThePathMovesTheBoom) {

@@ -38,6 +38,12 @@ struct Estimate {
   double alert_limit_attitude = 0.0;       // [deg]
 };
 
+// One camera's view of the receiver in a frame (aar_msgs/Visibility without ROS).
+struct CameraVisibility {
+  int silhouette_px = 0;  // the receiver drawn alone, inside the view
+  int visible_px = 0;     // of those, not covered by the boom
+};
+
 // One frame whose outcome is final, in stamp order.
 struct SettledFrame {
   int64_t stamp_ns = 0;
@@ -80,6 +86,9 @@ class Evaluator {
   bool AddEstimate(int64_t stamp_ns, const Estimate& estimate);
   // A stage's report on a frame; false when the frame is already settled.
   bool AddOutcome(int64_t stamp_ns, const StageOutcome& outcome);
+  // The simulator's visibility of the receiver in the frame's views; false when the frame is
+  // already settled. The frame's record takes the view with the largest visible fraction.
+  bool AddVisibility(int64_t stamp_ns, const std::vector<CameraVisibility>& views);
 
   // The frames that are settled at `now_s`, in stamp order.
   std::vector<SettledFrame> SettleReady(double now_s, const TruthReady& ready,
@@ -109,7 +118,8 @@ class Evaluator {
   std::deque<Announced> frames_;  // announced, not yet settled
   std::set<int64_t> settled_;
   std::map<int64_t, Estimate> estimates_;
-  std::map<int64_t, std::vector<StageOutcome>> outcomes_;  // the stages' reports per frame
+  std::map<int64_t, std::vector<StageOutcome>> outcomes_;        // the stages' reports per frame
+  std::map<int64_t, std::vector<CameraVisibility>> visibility_;  // per frame, until settled
   std::vector<LedgerEntry> ledger_;
   std::vector<FrameRecord> records_;
   int no_truth_ = 0;

@@ -51,6 +51,7 @@ EvalNode::EvalNode(ros::NodeHandle nh, const EvalNodeOptions& options)
   estimate_sub_ = nh_.subscribe("aar/pose_estimate", 100, &EvalNode::OnEstimate, this);
   outcome_sub_ =
       nh_.subscribe(aar_ros_common::kFrameOutcomeTopic, 1000, &EvalNode::OnOutcome, this);
+  visibility_sub_ = nh_.subscribe("sim/visibility", 100, &EvalNode::OnVisibility, this);
   tf_sub_ = nh_.subscribe("/tf", 1000, &EvalNode::OnTf, this);
   // A static truth (a test's) holds at every stamp: no outage to guard against.
   tf_static_sub_ = nh_.subscribe<tf2_msgs::TFMessage>(
@@ -71,6 +72,7 @@ EvalNode::~EvalNode() {
   frame_sub_.shutdown();
   estimate_sub_.shutdown();
   outcome_sub_.shutdown();
+  visibility_sub_.shutdown();
   tf_sub_.shutdown();
   tf_static_sub_.shutdown();
   std::lock_guard<std::mutex> lock(mutex_);
@@ -227,6 +229,25 @@ void EvalNode::OnOutcome(const aar_msgs::FrameOutcome::ConstPtr& msg) {
   std::lock_guard<std::mutex> lock(mutex_);
   evaluator_.AddOutcome(ToNs(msg->header.stamp), o);
   Settle();
+}
+
+void EvalNode::OnVisibility(const aar_msgs::Visibility::ConstPtr& msg) {
+  const size_t n = msg->camera.size();
+  std::vector<CameraVisibility> views;
+  for (size_t i = 0; i < n && msg->silhouette_px.size() == n && msg->visible_px.size() == n; ++i) {
+    if (msg->visible_px[i] > msg->silhouette_px[i]) break;
+    views.push_back(
+        {static_cast<int>(msg->silhouette_px[i]), static_cast<int>(msg->visible_px[i])});
+  }
+  if (views.size() != n || n == 0) {
+    ROS_WARN_STREAM("eval: left out a malformed visibility of stamp "
+                    << msg->header.stamp << ": " << n << " cameras, " << msg->silhouette_px.size()
+                    << " silhouettes, " << msg->visible_px.size()
+                    << " visible counts (one each, visible at most the silhouette)");
+    return;
+  }
+  std::lock_guard<std::mutex> lock(mutex_);
+  evaluator_.AddVisibility(ToNs(msg->header.stamp), views);
 }
 
 void EvalNode::Settle() {

@@ -140,6 +140,10 @@ class Renderer {
   RenderedView Render(const Eigen::Isometry3d& T_tanker_optical, const std::vector<DrawItem>& items,
                       bool want_label, bool want_depth,
                       const std::vector<PropellerItem>& propellers = {});
+  // The label image alone of the items seen from T_tanker_optical: no background, no propellers,
+  // no shading. What World::MeasureVisibility draws the receiver's silhouette with.
+  Image<uint8_t> RenderLabel(const Eigen::Isometry3d& T_tanker_optical,
+                             const std::vector<DrawItem>& items);
 
   const RendererOptions& options() const { return options_; }
   std::string gl_renderer() const;  // e.g. "llvmpipe (LLVM 15.0.6, 256 bits)"

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <array>
 #include <map>
 #include <memory>
 #include <string>
@@ -56,6 +57,15 @@ struct StereoFrame {
   std::map<std::string, Eigen::Isometry3d> T_tanker_links;  // boom links
 };
 
+// What the boom leaves of the receiver's silhouette in one camera's view (docs/TRACKING.md,
+// "Visibility"): a frame with little to see is missed by physics, not by the estimator.
+struct ViewVisibility {
+  int silhouette_px = 0;  // pixels of the receiver drawn alone, inside the view
+  int visible_px = 0;     // of those, the ones the boom does not cover
+  // visible_px / silhouette_px; NaN when the receiver is not in the view at all.
+  double fraction() const;
+};
+
 // The virtual world: receiver and boom models, the stereo rig and the renderer.
 class World {
  public:
@@ -69,6 +79,11 @@ class World {
   StereoFrame Render(const FlightPathRow& row, const BoomPose& boom, uint64_t frame_index,
                      bool want_label = false, bool want_depth = false,
                      const SceneState* exposure_end = nullptr);
+
+  // The visibility of the receiver in each view of `frame` (left, right): its silhouette drawn
+  // alone against the frame's label. Throws std::invalid_argument when `frame` was rendered
+  // without its label (Render's want_label).
+  std::array<ViewVisibility, 2> MeasureVisibility(const StereoFrame& frame);
 
   const WorldOptions& options() const { return options_; }
   const aar_geometry::TriangleMesh& receiver_mesh() const { return receiver_; }

@@ -1,8 +1,10 @@
 #include "aar_sim/ros/sim_node.h"
 
+#include <array>
 #include <optional>
 #include <stdexcept>
 
+#include <aar_msgs/Visibility.h>
 #include <aar_ros_common/markers.h>
 
 #include <rosgraph_msgs/Clock.h>
@@ -51,6 +53,9 @@ void SimNode::Advertise() {
   if (options_.publish_labels) {
     left_label_pub_ = it_.advertise("stereo/left/label", 2);
     right_label_pub_ = it_.advertise("stereo/right/label", 2);
+  }
+  if (options_.measure_visibility) {
+    visibility_pub_ = nh_.advertise<aar_msgs::Visibility>("sim/visibility", 10);
   }
   joint_pub_ = nh_.advertise<sensor_msgs::JointState>("joint_states", 10);
   clock_pub_ = nh_.advertise<rosgraph_msgs::Clock>("/clock", 10);
@@ -204,7 +209,8 @@ StereoFrame SimNode::RenderFrame(int k, double t, const FlightPathRow& row, cons
     exposure_end = SceneState{row_end, boom_end};
   }
   try {
-    return world_->Render(row, boom, static_cast<uint64_t>(k), options_.publish_labels, false,
+    return world_->Render(row, boom, static_cast<uint64_t>(k),
+                          options_.publish_labels || options_.measure_visibility, false,
                           exposure_end ? &*exposure_end : nullptr);
   } catch (const std::exception& e) {
     throw std::runtime_error("rendering frame " + std::to_string(k) + " failed: " + e.what());
@@ -259,6 +265,19 @@ std::pair<FlightPathRow, BoomPose> SimNode::StateAt(double t) const {
   return turbulence_.Apply(t, row, boom, world_->boom_model().joints);
 }
 
+void SimNode::PublishVisibility(const StereoFrame& frame, const ros::Time& stamp) {
+  const std::array<ViewVisibility, 2> views = world_->MeasureVisibility(frame);
+  aar_msgs::Visibility msg;
+  msg.header.stamp = stamp;
+  msg.header.frame_id = "tanker";
+  for (int camera = 0; camera < 2; ++camera) {
+    msg.camera.push_back(camera == 0 ? "left" : "right");
+    msg.silhouette_px.push_back(static_cast<uint32_t>(views[camera].silhouette_px));
+    msg.visible_px.push_back(static_cast<uint32_t>(views[camera].visible_px));
+  }
+  visibility_pub_.publish(msg);
+}
+
 void SimNode::PublishFrame(int index, const FlightPathRow& row, const BoomPose& boom,
                            const StereoFrame& frame, const ros::Time& stamp) {
   rosgraph_msgs::Clock clock;
@@ -273,6 +292,7 @@ void SimNode::PublishFrame(int index, const FlightPathRow& row, const BoomPose& 
   }
   joint_pub_.publish(joints);
   tf_.sendTransform(ToTransformMsg(row.T_tanker_receiver(), stamp, "tanker", "receiver_truth"));
+  if (options_.measure_visibility) PublishVisibility(frame, stamp);
 
   const CameraIntrinsics& k = options_.world.rig.intrinsics;
   std_msgs::Header left, right;

@@ -106,6 +106,7 @@ void LoadLoop(aar_ros_common::ParamReader& params, SimNodeOptions* o) {
   o->start_delay = params.Get("start_delay", o->start_delay);
   params.Check(o->start_delay >= 0.0, "start_delay", "must not be negative");
   o->publish_labels = params.Get("publish_labels", o->publish_labels);
+  o->measure_visibility = params.Get("measure_visibility", o->lockstep);
   o->shutdown_at_end = params.Get("shutdown_at_end", o->shutdown_at_end);
   o->stamp_offset = params.Get("stamp_offset", o->stamp_offset);
   params.Check(o->rate > 0.0, "rate", "must be positive");

@@ -10,6 +10,7 @@
 
 #include <aar_msgs/FrameOutcome.h>
 #include <aar_msgs/PoseEstimate.h>
+#include <aar_msgs/Visibility.h>
 #include <aar_ros_common/error_throttle.h>
 #include <aar_ros_common/param_reader.h>
 #include <aar_ros_common/publisher_check.h>
@@ -68,6 +69,8 @@ class EvalNode {
   // expected caller id); warns naming it.
   bool NoStranger(const ros::Time& stamp);
   void OnOutcome(const aar_msgs::FrameOutcome::ConstPtr& outcome);
+  // The simulator's /sim/visibility; a malformed one is named and left out.
+  void OnVisibility(const aar_msgs::Visibility::ConstPtr& visibility);
   void OnTf(const tf2_msgs::TFMessage::ConstPtr& tf);
   void Settle();                                          // mutex_ held
   void Record(const std::vector<SettledFrame>& settled);  // mutex_ held
@@ -80,7 +83,7 @@ class EvalNode {
   tf2_ros::Buffer tf_;
   tf2_ros::TransformListener listener_;
   ros::Publisher error_pub_;
-  ros::Subscriber frame_sub_, estimate_sub_, outcome_sub_, tf_sub_, tf_static_sub_;
+  ros::Subscriber frame_sub_, estimate_sub_, outcome_sub_, visibility_sub_, tf_sub_, tf_static_sub_;
   ros::WallTimer settle_timer_;
   std::mutex mutex_;
   Evaluator evaluator_;

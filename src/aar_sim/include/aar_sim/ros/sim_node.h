@@ -42,6 +42,9 @@ struct SimNodeOptions {
   double start_delay = 0.0;           // [s wall] then wait this long (other listeners connecting)
   bool publish_labels =
       false;  // also /stereo/{left,right}/label (mono8: 0 sky, 1 receiver, 2 boom)
+  // Also /sim/visibility (aar_msgs/Visibility): how much of the receiver the boom hides in each
+  // camera (World::MeasureVisibility: one more label render per camera). Default: on in lockstep.
+  bool measure_visibility = false;
   bool shutdown_at_end = false;  // end the process after the last frame (experiments; in a
                                  // nodelet manager this ends the manager)
   double stamp_offset = 1.0;     // [s] stamp = offset + path time; stamp 0 means "latest" to tf
@@ -80,6 +83,8 @@ class SimNode {
   int FrameCount() const;    // the path's frames from start_time at the rate, at most `frames`
   StereoFrame RenderFrame(int k, double t, const FlightPathRow& row, const BoomPose& boom);
   bool WaitForEstimate(int k, const ros::Time& stamp);  // lockstep; false: timed out (warned)
+  // /sim/visibility of the frame (measure_visibility), before its images.
+  void PublishVisibility(const StereoFrame& frame, const ros::Time& stamp);
   void PublishFrame(int index, const FlightPathRow& row, const BoomPose& boom,
                     const StereoFrame& frame, const ros::Time& stamp);
   void OnEstimate(const ros::MessageEvent<aar_msgs::PoseEstimate const>& event);
@@ -97,6 +102,7 @@ class SimNode {
   image_transport::ImageTransport it_;
   image_transport::CameraPublisher left_pub_, right_pub_;
   image_transport::Publisher left_label_pub_, right_label_pub_;
+  ros::Publisher visibility_pub_;
   ros::Publisher joint_pub_, clock_pub_, marker_pub_;
   ros::Subscriber estimate_sub_;
   tf2_ros::TransformBroadcaster tf_;
