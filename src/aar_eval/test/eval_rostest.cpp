@@ -8,10 +8,12 @@
 #include <regex>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include <aar_msgs/FrameOutcome.h>
 #include <aar_msgs/PoseError.h>
 #include <aar_msgs/PoseEstimate.h>
+#include <aar_msgs/Visibility.h>
 #include <aar_ros_common/rostest_main.h>
 #include <ros/ros.h>
 #include <rosgraph_msgs/Log.h>
@@ -37,7 +39,20 @@ std::string ReadText(const std::string& path) {
   return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
 }
 
-// Frames 2..8: estimates for all but 4 and 8; stereo reports dropping 8 (stale). Another node
+// The simulator's visibility of a frame: each camera's silhouette and visible pixels.
+aar_msgs::Visibility VisibilityAt(int k, std::vector<uint32_t> silhouette,
+                                  std::vector<uint32_t> visible) {
+  aar_msgs::Visibility v;
+  v.header.stamp = ros::Time(k);
+  v.camera = {"left", "right"};
+  v.silhouette_px = silhouette;
+  v.visible_px = visible;
+  return v;
+}
+
+// Frames 2..8: estimates for all but 4 and 8; stereo reports dropping 8 (stale). Frame 2 has
+// the simulator's visibility (the best camera's is kept), frame 3 a malformed one (more visible
+// than there is: named and left out). Another node
 // publishes an estimate 1 km off for frame 7 before the registration's (the test node, eval's
 // ~estimate_publisher): ignored and named; so is a forger's for frame 6 that writes the
 // registration's caller id into its connection header (named by its link's URI). Each frame settles
@@ -47,6 +62,7 @@ TEST(Eval, FrameWithoutEstimateIsAMissNotACrash) {
   ros::Publisher frames = nh.advertise<sensor_msgs::CameraInfo>("/stereo/left/camera_info", 10);
   ros::Publisher estimates = nh.advertise<aar_msgs::PoseEstimate>("/aar/pose_estimate", 10);
   ros::Publisher outcomes = nh.advertise<aar_msgs::FrameOutcome>("/aar/frame_outcome", 10);
+  ros::Publisher visibility = nh.advertise<aar_msgs::Visibility>("/sim/visibility", 10);
   int errors = 0;
   ros::Subscriber error_sub = nh.subscribe<aar_msgs::PoseError>(
       "/aar/pose_error", 10, [&](const aar_msgs::PoseError::ConstPtr&) { ++errors; });
@@ -68,7 +84,7 @@ TEST(Eval, FrameWithoutEstimateIsAMissNotACrash) {
   const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(20.0);
   while (ros::WallTime::now() < deadline &&
          (frames.getNumSubscribers() == 0 || estimates.getNumSubscribers() == 0 ||
-          outcomes.getNumSubscribers() == 0)) {
+          outcomes.getNumSubscribers() == 0 || visibility.getNumSubscribers() == 0)) {
     ros::WallDuration(0.05).sleep();
   }
   ASSERT_GT(frames.getNumSubscribers(), 0u);
@@ -96,6 +112,8 @@ TEST(Eval, FrameWithoutEstimateIsAMissNotACrash) {
                             "{position: {x: 1000.0}, orientation: {w: 1.0}}}' __name:=intruder"),
                 0);
     }
+    if (k == 2) visibility.publish(VisibilityAt(k, {1000, 1000}, {250, 400}));
+    if (k == 3) visibility.publish(VisibilityAt(k, {1000, 1000}, {250, 1400}));
     sensor_msgs::CameraInfo info;
     info.header.stamp = ros::Time(k);
     frames.publish(info);
@@ -144,6 +162,9 @@ TEST(Eval, FrameWithoutEstimateIsAMissNotACrash) {
   EXPECT_TRUE(std::isnan(records[0].pl_position_m));
   EXPECT_TRUE(std::isnan(records[0].al_attitude_deg));
   EXPECT_FALSE(records[0].alert);
+  EXPECT_EQ(records[0].visible_fraction, 0.4);
+  EXPECT_EQ(records[0].visible_px, 400);
+  EXPECT_TRUE(std::isnan(records[1].visible_px)) << "the malformed visibility was taken";
   EXPECT_EQ(errors, 5);
   const std::string ledger = ReadText("/tmp/aar_eval_rostest/ledger.csv");
   EXPECT_NE(ledger.find("2.000000000,estimated,registration"), std::string::npos) << ledger;
@@ -151,6 +172,11 @@ TEST(Eval, FrameWithoutEstimateIsAMissNotACrash) {
   EXPECT_NE(ledger.find("8.000000000,dropped,stereo,stale,\"waited 0.3 s"), std::string::npos)
       << ledger;
   std::lock_guard<std::mutex> lock(mutex);
+  EXPECT_NE(warnings.find("eval: left out a malformed visibility of stamp 3.000000000: 2 cameras, "
+                          "2 silhouettes, 2 visible counts (one each, visible at most the "
+                          "silhouette)"),
+            std::string::npos)
+      << warnings;
   EXPECT_NE(warnings.find("from /intruder, not from the registration (/eval_misses): ignored"),
             std::string::npos)
       << warnings;
