@@ -103,14 +103,17 @@ bool Evaluator::AddVisibility(int64_t stamp_ns, const std::vector<CameraVisibili
 
 namespace {
 
-// The view that saw most of the receiver, into the frame's record (0 pixels and a NaN fraction
-// when none saw it).
+// The view that saw most of the receiver (most visible pixels; of equals, the larger share),
+// into the frame's record (0 pixels and a NaN share when none saw it). By pixels, not by share:
+// a sliver at the image's edge, wholly visible, is not the better view of a receiver another
+// camera sees whole.
 void TakeBestView(const std::vector<CameraVisibility>& views, FrameRecord& f) {
   f.visible_px = 0.0;
   for (const CameraVisibility& v : views) {
     if (v.silhouette_px <= 0) continue;
     const double fraction = static_cast<double>(v.visible_px) / v.silhouette_px;
-    if (std::isnan(f.visible_fraction) || fraction > f.visible_fraction) {
+    if (std::isnan(f.visible_fraction) || v.visible_px > f.visible_px ||
+        (v.visible_px == f.visible_px && fraction > f.visible_fraction)) {
       f.visible_fraction = fraction;
       f.visible_px = v.visible_px;
     }

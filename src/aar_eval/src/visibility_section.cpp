@@ -11,7 +11,7 @@ namespace aar_eval {
 namespace {
 
 // The bins of visible fraction, and one for frames whose receiver was in no view.
-constexpr std::array<double, 4> kBinStarts = {0.0, 0.25, 0.5, 0.75};
+constexpr std::array<double, 5> kBinStarts = {0.0, 0.25, 0.5, 0.75, 0.9};
 constexpr size_t kNotInView = kBinStarts.size();
 constexpr size_t kColumns = kBinStarts.size() + 1;
 
@@ -50,7 +50,7 @@ bool Count(const std::vector<const std::vector<FrameRecord>*>& runs, const std::
 
 std::string BinHeader(size_t bin) {
   if (bin == kNotInView) return "in no view";
-  const auto percent = [](double x) { return std::to_string(static_cast<int>(x * 100.0)); };
+  const auto percent = [](double x) { return std::to_string(std::lround(x * 100.0)); };
   if (bin + 1 == kBinStarts.size()) return ">= " + percent(kBinStarts[bin]) + " %";
   return percent(kBinStarts[bin]) + "-" + percent(kBinStarts[bin + 1]) + " %";
 }

@@ -229,22 +229,26 @@ TEST(Evaluator, MissesBeforeTheFirstEstimatePublishNothing) {
   EXPECT_NEAR(settled[2].record.published_error[0], 2.0, 1e-9);  // -34 held against -36
 }
 
-// The simulator's visibility: the frame takes the camera that saw most of the receiver; a
+// The simulator's visibility: the frame takes the camera that saw most of the receiver (the
+// most visible pixels, not the largest share: the right camera's sliver at the image's edge); a
 // frame whose receiver was in no view has 0 pixels, one never measured NaN; a visibility for a
 // settled frame is refused.
 TEST(Evaluator, VisibilityOfTheBestViewIsRecorded) {
   Evaluator eval(1.0, 3);
   for (int64_t s : {2, 3, 4}) eval.AddFrame(s * kSecond);
-  EXPECT_TRUE(eval.AddVisibility(2 * kSecond, {{1000, 250}, {1000, 400}}));
+  EXPECT_TRUE(eval.AddVisibility(2 * kSecond, {{1000, 400}, {20, 20}}));
   EXPECT_TRUE(eval.AddVisibility(3 * kSecond, {{0, 0}, {0, 0}}));
+  EXPECT_TRUE(eval.AddVisibility(4 * kSecond, {{1000, 250}, {800, 250}}));  // equals: the share
   const auto settled = eval.SettleAll(Truth);
   ASSERT_EQ(settled.size(), 3u);
   EXPECT_EQ(settled[0].record.visible_fraction, 0.4);
   EXPECT_EQ(settled[0].record.visible_px, 400);
   EXPECT_TRUE(std::isnan(settled[1].record.visible_fraction));
   EXPECT_EQ(settled[1].record.visible_px, 0);
-  EXPECT_TRUE(std::isnan(settled[2].record.visible_px));
+  EXPECT_EQ(settled[2].record.visible_fraction, 250.0 / 800.0);
   EXPECT_FALSE(eval.AddVisibility(2 * kSecond, {{1000, 1000}}));
+  eval.AddFrame(5 * kSecond);
+  EXPECT_TRUE(std::isnan(eval.SettleAll(Truth)[0].record.visible_px));  // never measured
 }
 
 }  // namespace

@@ -157,14 +157,15 @@ TEST(Report, CoverageAgainstVisibilityPerRegionAndBin) {
   WriteFrameCsv(dir + "/naive/frames.csv", frames);
   WriteFrameCsv(dir + "/dynamic/frames.csv", {Frame(1.0, 0.2)});  // not measured
   const std::string report = Read(WriteReport({dir, {"naive", "dynamic"}, "naive"}).path);
-  EXPECT_NE(report.find("| experiment | region | 0-25 % | 25-50 % | 50-75 % | >= 75 % | in no "
-                        "view |"),
+  EXPECT_NE(report.find("| experiment | region | 0-25 % | 25-50 % | 50-75 % | 75-90 % | >= 90 % | "
+                        "in no view |"),
             std::string::npos)
       << report;
-  EXPECT_NE(report.find("| naive | A | - | - | - | - | 1 / 1 |"), std::string::npos) << report;
-  EXPECT_NE(report.find("| naive | C | 1 / 1 | 0 / 1 | - | 1 / 2 | - |"), std::string::npos)
+  EXPECT_NE(report.find("| naive | A | - | - | - | - | - | 1 / 1 |"), std::string::npos) << report;
+  EXPECT_NE(report.find("| naive | C | 1 / 1 | 0 / 1 | - | 0 / 1 | 1 / 1 | - |"), std::string::npos)
       << report;
-  EXPECT_NE(report.find("| naive | all | 1 / 1 | 0 / 1 | - | 1 / 2 | 1 / 1 |"), std::string::npos)
+  EXPECT_NE(report.find("| naive | all | 1 / 1 | 0 / 1 | - | 0 / 1 | 1 / 1 | 1 / 1 |"),
+            std::string::npos)
       << report;
   EXPECT_EQ(report.find("| dynamic | C |"), std::string::npos) << report;
   WriteFrameCsv(dir + "/naive/frames.csv", {Frame(1.0, 0.4)});

@@ -3,8 +3,6 @@
 // propellers, read-back). The GLSL is in the package's shaders/ directory.
 #include "aar_sim/renderer.h"
 
-#include <utility>
-
 #include "renderer/gl_state.h"
 #include "renderer/shaders.h"
 
@@ -149,12 +147,14 @@ RenderedView Renderer::Render(const Eigen::Isometry3d& T_tanker_optical,
 Image<uint8_t> Renderer::RenderLabel(const Eigen::Isometry3d& T_tanker_optical,
                                      const std::vector<DrawItem>& items) {
   render::CurrentContext current(gl_->egl);
-  render::ClearToSky(options_, *gl_);
-  // The label does not depend on the light: the shadow map is neither updated nor needed.
-  render::DrawMeshes(options_, T_tanker_optical, Eigen::Matrix4d::Identity(), items, *gl_);
-  RenderedView view = render::ReadView(options_.intrinsics, true, false);
+  // The label does not depend on the light: the plain program, no shadow map.
+  RendererOptions unlit = options_;
+  unlit.sun.enabled = false;
+  render::ClearToSky(unlit, *gl_);
+  render::DrawMeshes(unlit, T_tanker_optical, Eigen::Matrix4d::Identity(), items, *gl_);
+  Image<uint8_t> label = render::ReadLabel(options_.intrinsics);
   render::CheckGl("label render");
-  return std::move(view.label);
+  return label;
 }
 
 }  // namespace aar_sim

@@ -262,6 +262,26 @@ TEST(Renderer, VisibilityCountsWhatTheBoomLeavesOfTheReceiver) {
   }
 }
 
+// The label-only render leaves nothing behind: in a world with the sun's shadows, a background
+// and propellers, the frame rendered after a visibility measure is the frame before, bit for bit.
+// The propellers' discs are the receiver's: visible, not hidden.
+TEST(Renderer, VisibilityLeavesTheNextFrameAlone) {
+  WorldOptions o = TestWorld(true);
+  o.renderer.sun.enabled = true;
+  o.renderer.scene.background = Background::kSea;
+  o.propellers = PropellerMode::kDisc;
+  World world(o);
+  const FlightPathRow row = Receiver(-35.0, 0.0, -10.3, 0.0);
+  const StereoFrame a = world.Render(row, DefaultBoomPose(), 0, true, true);
+  const std::array<ViewVisibility, 2> seen = world.MeasureVisibility(a);
+  ExpectSameFrame(a, world.Render(row, DefaultBoomPose(), 0, true, true));
+  const auto propeller = std::count(a.left.label.data.begin(), a.left.label.data.end(),
+                                    static_cast<uint8_t>(Label::kPropeller));
+  ASSERT_GT(propeller, 0);
+  EXPECT_GE(seen[0].visible_px, std::count(a.left.label.data.begin(), a.left.label.data.end(),
+                                           static_cast<uint8_t>(Label::kReceiver)));
+}
+
 TEST(Renderer, BoomPoseFromThePathMovesTheBoom) {
   World world(TestWorld(true));
   const FlightPathRow row = Receiver(-60.0, 0.0, -18.0, 0.0);

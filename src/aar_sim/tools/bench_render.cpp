@@ -1,6 +1,7 @@
 // bench_render: stereo pairs rendered per second at the configured resolution, along the default
-// approach (far, mid and near frames): images only, with label + depth read back, and with every
-// sensor effect on (config/realism/sensor.yaml's values: shot and read noise, motion blur over
+// approach (far, mid and near frames): images only, with label + depth read back, with the label
+// and the receiver's visibility (World::MeasureVisibility, what the lockstep simulator adds per
+// frame since issue 44), and with every sensor effect on (config/realism/sensor.yaml's values: shot and read noise, motion blur over
 // 2 ms with the path's motion, gain mismatch, auto-exposure) side by side with them off.
 //   bench_render FLIGHT_PATH [PAIRS_PER_POINT]
 // AAR_BENCH_NOISE: the read noise of the first two columns [grey levels] (default 2).
@@ -64,8 +65,8 @@ int main(int argc, char** argv) {
     const auto path = aar_sim::FlightPath::Load(path_file);
     std::printf("renderer: %s, %dx%d, %d pairs per point\n", world.renderer().gl_renderer().c_str(),
                 options.rig.intrinsics.width, options.rig.intrinsics.height, pairs);
-    std::printf("%10s %12s %16s %22s %18s%s\n", "range [m]", "t [s]", "pairs/s (images)",
-                "pairs/s (+label+depth)", "pairs/s (+sensor)",
+    std::printf("%10s %12s %16s %22s %27s %18s%s\n", "range [m]", "t [s]", "pairs/s (images)",
+                "pairs/s (+label+depth)", "pairs/s (+label+visibility)", "pairs/s (+sensor)",
                 scene ? " pairs/s (+scene) (+scene+sensor) (+sun+props+sensor) (everything)" : "");
     for (double fraction : {0.0, 0.5, 0.8, 1.0}) {
       const double t = path.start_time() + fraction * (path.end_time() - path.start_time());
@@ -88,8 +89,12 @@ int main(int argc, char** argv) {
         rate[column] =
             pairs / std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       }
-      std::printf("%10.1f %12.1f %16.1f %22.1f %18.1f", row.position_m.norm(), t, rate[0], rate[1],
-                  rate[2]);
+      const auto start = std::chrono::steady_clock::now();
+      for (int i = 0; i < pairs; ++i) world.MeasureVisibility(world.Render(row, boom, i, true));
+      const double visibility =
+          pairs / std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      std::printf("%10.1f %12.1f %16.1f %22.1f %27.1f %18.1f", row.position_m.norm(), t, rate[0],
+                  rate[1], visibility, rate[2]);
       if (scene) std::printf(" %16.1f %15.1f %19.1f %12.1f", rate[3], rate[4], rate[5], rate[6]);
       std::printf("\n");
     }

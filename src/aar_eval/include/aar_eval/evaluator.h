@@ -87,7 +87,7 @@ class Evaluator {
   // A stage's report on a frame; false when the frame is already settled.
   bool AddOutcome(int64_t stamp_ns, const StageOutcome& outcome);
   // The simulator's visibility of the receiver in the frame's views; false when the frame is
-  // already settled. The frame's record takes the view with the largest visible fraction.
+  // already settled. The frame's record takes the view with the most visible pixels.
   bool AddVisibility(int64_t stamp_ns, const std::vector<CameraVisibility>& views);
 
   // The frames that are settled at `now_s`, in stamp order.

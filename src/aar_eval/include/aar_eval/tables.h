@@ -42,9 +42,10 @@ struct FrameRecord {
   double al_attitude_deg = std::numeric_limits<double>::quiet_NaN();
   // The frame's estimate was published in alert (not to be used); false when no estimate came.
   bool alert = false;
-  // What the boom left of the receiver in the camera that saw most of it (the simulator's
-  // aar_msgs/Visibility): the fraction of its silhouette in view that was visible, and those
-  // pixels. NaN when not measured (a bag, a real rig) or the receiver was in no view.
+  // What the boom left of the receiver in the camera that saw most of it (most visible pixels;
+  // the simulator's aar_msgs/Visibility): the fraction of its silhouette in view that was
+  // visible, and those pixels. Both NaN when not measured (a bag, a real rig); a receiver in no
+  // view has 0 pixels and a NaN fraction.
   double visible_fraction = std::numeric_limits<double>::quiet_NaN();
   double visible_px = std::numeric_limits<double>::quiet_NaN();
 };

@@ -247,7 +247,10 @@ void EvalNode::OnVisibility(const aar_msgs::Visibility::ConstPtr& msg) {
     return;
   }
   std::lock_guard<std::mutex> lock(mutex_);
-  evaluator_.AddVisibility(ToNs(msg->header.stamp), views);
+  if (!evaluator_.AddVisibility(ToNs(msg->header.stamp), views)) {
+    ROS_WARN_STREAM("eval: the visibility of stamp " << msg->header.stamp
+                                                     << " came after its frame settled: left out");
+  }
 }
 
 void EvalNode::Settle() {

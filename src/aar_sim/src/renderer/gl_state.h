@@ -94,6 +94,8 @@ void DrawPropellers(const RendererOptions& options, const Eigen::Isometry3d& T_t
 // read_back.cpp: the framebuffer's radiance, and label and depth when asked for, row 0 at the
 // top.
 RenderedView ReadView(const CameraIntrinsics& k, bool want_label, bool want_depth);
+// The label attachment alone.
+Image<uint8_t> ReadLabel(const CameraIntrinsics& k);
 
 }  // namespace render
 }  // namespace aar_sim

@@ -86,6 +86,12 @@ RenderedView ReadView(const CameraIntrinsics& k, bool want_label, bool want_dept
   return view;
 }
 
+Image<uint8_t> ReadLabel(const CameraIntrinsics& k) {
+  Image<uint8_t> label;
+  ReadAttachment(k, GL_COLOR_ATTACHMENT1, GL_RED_INTEGER, GL_UNSIGNED_BYTE, &label);
+  return label;
+}
+
 }  // namespace render
 
 Image<uint8_t> Renderer::ConvertLikeR8Attachment(const Image<float>& radiance) {
