@@ -1,5 +1,6 @@
 #include "aar_eval/evaluator.h"
 
+#include <algorithm>
 #include <cmath>
 #include <iomanip>
 #include <limits>
@@ -117,6 +118,13 @@ void TakeBestView(const std::vector<CameraVisibility>& views, FrameRecord& f) {
       f.visible_fraction = fraction;
       f.visible_px = v.visible_px;
     }
+  }
+  if (std::isnan(f.visible_fraction)) return;  // in no view
+  f.visible_fraction_least = f.visible_fraction;
+  for (const CameraVisibility& v : views) {
+    const double fraction =
+        v.silhouette_px > 0 ? static_cast<double>(v.visible_px) / v.silhouette_px : 0.0;
+    f.visible_fraction_least = std::min(f.visible_fraction_least, fraction);
   }
 }
 

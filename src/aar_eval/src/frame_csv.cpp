@@ -87,9 +87,10 @@ constexpr size_t kColumnsBeforeTracking = 14;    // up to registration_ms
 constexpr size_t kColumnsBeforeHold = 16;        // up to nees
 constexpr size_t kColumnsBeforeIntegrity = 23;   // up to published_yaw_deg
 constexpr size_t kColumnsBeforeVisibility = 28;  // up to alert
+constexpr size_t kColumnsBeforeLeast = 30;       // up to visible_px
 
 // The columns in the file's order. Earlier runs wrote only the first kColumnsBeforeTracking,
-// kColumnsBeforeHold, kColumnsBeforeIntegrity or kColumnsBeforeVisibility.
+// kColumnsBeforeHold, kColumnsBeforeIntegrity, kColumnsBeforeVisibility or kColumnsBeforeLeast.
 const std::vector<FrameColumn>& FrameColumns() {
   static const std::vector<FrameColumn> columns = [] {
     std::vector<FrameColumn> c = {
@@ -140,6 +141,7 @@ const std::vector<FrameColumn>& FrameColumns() {
     // Since visibility (issue 44): what the boom left of the receiver in view (NaN: not measured).
     c.push_back(NumberColumn("visible_fraction", &FrameRecord::visible_fraction));
     c.push_back(NumberColumn("visible_px", &FrameRecord::visible_px));
+    c.push_back(NumberColumn("visible_fraction_least", &FrameRecord::visible_fraction_least));
     return c;
   }();
   return columns;
@@ -155,7 +157,7 @@ std::string HeaderOf(size_t n) {
 // How many columns a file with this header line has; 0 when it is no frame CSV header.
 size_t ColumnsOfHeader(const std::string& line) {
   for (size_t n : {FrameColumns().size(), kColumnsBeforeTracking, kColumnsBeforeHold,
-                   kColumnsBeforeIntegrity, kColumnsBeforeVisibility})
+                   kColumnsBeforeIntegrity, kColumnsBeforeVisibility, kColumnsBeforeLeast})
     if (line == HeaderOf(n)) return n;
   return 0;
 }

@@ -201,7 +201,7 @@ void WriteCaptures(std::ostream& out, const std::string& dir) {
   std::sort(captures.begin(), captures.end());
   if (captures.empty()) return;
   out << "## rviz captures\n\n"
-      << "config/rviz/aar.rviz on rosbags/sample_contact.bag (experiment dynamic, near "
+      << "config/rviz/aar.rviz on rosbags/sample_contact.bag (experiment flight, near "
          "contact): sensed cloud without the boom white, removed boom points magenta, dynamic "
          "reference by "
          "class (both cameras red, left only cyan, right only blue, neither green), shadow "

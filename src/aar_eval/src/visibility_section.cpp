@@ -21,18 +21,21 @@ struct BinCounts {
   std::array<int, kColumns> frames{}, estimated{};
 };
 
-// The bin of a measured frame.
-size_t BinOf(const FrameRecord& f) {
-  if (std::isnan(f.visible_fraction)) return kNotInView;
+// Which of a frame's shares a table bins by.
+using Share = double FrameRecord::*;
+
+// The bin of a measured frame's `share`.
+size_t BinOf(double share) {
+  if (std::isnan(share)) return kNotInView;
   size_t bin = 0;
-  while (bin + 1 < kBinStarts.size() && f.visible_fraction >= kBinStarts[bin + 1]) ++bin;
+  while (bin + 1 < kBinStarts.size() && share >= kBinStarts[bin + 1]) ++bin;
   return bin;
 }
 
-// Counts the measured frames of the runs in region `key` ("all": every region); false when none
-// was measured.
+// Counts the measured frames of the runs in region `key` ("all": every region) by `share`;
+// false when none was measured.
 bool Count(const std::vector<const std::vector<FrameRecord>*>& runs, const std::string& key,
-           BinCounts& counts) {
+           Share share, BinCounts& counts) {
   bool measured = false;
   for (const std::vector<FrameRecord>* run : runs) {
     for (const FrameRecord& f : *run) {
@@ -40,7 +43,7 @@ bool Count(const std::vector<const std::vector<FrameRecord>*>& runs, const std::
       if (f.region == aar_geometry::Region::kOutside) continue;
       if (key != "all" && aar_geometry::RegionName(f.region) != key) continue;
       measured = true;
-      const size_t bin = BinOf(f);
+      const size_t bin = BinOf(f.*share);
       ++counts.frames[bin];
       counts.estimated[bin] += f.estimated ? 1 : 0;
     }
@@ -72,23 +75,34 @@ Columns<BinCounts> VisibilityColumns() {
 }  // namespace
 
 std::string VisibilitySection(const std::vector<ExperimentRuns>& experiments) {
-  std::vector<BinCounts> rows;
-  for (const auto& [experiment, runs] : experiments) {
-    for (const auto& [key, title] : RegionTitles()) {
-      BinCounts counts{experiment, key, {}, {}};
-      if (Count(runs, key, counts)) rows.push_back(counts);
+  const auto rows = [&](Share share) {
+    std::vector<BinCounts> out;
+    for (const auto& [experiment, runs] : experiments) {
+      for (const auto& [key, title] : RegionTitles()) {
+        BinCounts counts{experiment, key, {}, {}};
+        if (Count(runs, key, share, counts)) out.push_back(counts);
+      }
     }
-  }
-  if (rows.empty()) return "";
+    return out;
+  };
+  const std::vector<BinCounts> best = rows(&FrameRecord::visible_fraction);
+  if (best.empty()) return "";
   std::ostringstream out;
   out << "## Coverage against visibility\n\nFrames with an estimate of their own, of all "
-         "frames, by the share of the receiver's silhouette that the boom left visible in the "
-         "camera that saw most of it (the simulator's measure: the receiver drawn alone against "
-         "the frame's labels). A miss where little is visible is the sensor's; one where much is "
-         "visible is the estimator's.\n\n";
+         "frames, by the share of the receiver's silhouette that the boom left visible (the "
+         "simulator's measure: the receiver drawn alone against the frame's labels), in the "
+         "camera that saw most of it. A miss where little is visible is the sensor's; one where "
+         "much is visible is the estimator's.\n\n";
   const Columns<BinCounts> columns = VisibilityColumns();
   WriteTableHead(out, columns);
-  for (const BinCounts& row : rows) WriteTableRow(out, columns, row);
+  for (const BinCounts& row : best) WriteTableRow(out, columns, row);
+  out << "\nThe same by the camera that saw least of it: stereo needs the receiver in both "
+         "views, and the start from the images searches the left one. The cameras are 0.5 m "
+         "apart, the boom a few metres away: one may see a far receiver whole while the boom "
+         "hides it from the other.\n\n";
+  WriteTableHead(out, columns);
+  for (const BinCounts& row : rows(&FrameRecord::visible_fraction_least))
+    WriteTableRow(out, columns, row);
   return out.str();
 }
 

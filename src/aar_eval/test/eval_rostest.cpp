@@ -164,6 +164,7 @@ TEST(Eval, FrameWithoutEstimateIsAMissNotACrash) {
   EXPECT_FALSE(records[0].alert);
   EXPECT_EQ(records[0].visible_fraction, 0.4);
   EXPECT_EQ(records[0].visible_px, 400);
+  EXPECT_EQ(records[0].visible_fraction_least, 0.25);
   EXPECT_TRUE(std::isnan(records[1].visible_px)) << "the malformed visibility was taken";
   EXPECT_EQ(errors, 5);
   const std::string ledger = ReadText("/tmp/aar_eval_rostest/ledger.csv");

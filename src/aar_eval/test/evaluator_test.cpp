@@ -243,9 +243,12 @@ TEST(Evaluator, VisibilityOfTheBestViewIsRecorded) {
   ASSERT_EQ(settled.size(), 3u);
   EXPECT_EQ(settled[0].record.visible_fraction, 0.4);
   EXPECT_EQ(settled[0].record.visible_px, 400);
+  EXPECT_EQ(settled[0].record.visible_fraction_least, 0.4);  // the sliver's 1.0 is the most
   EXPECT_TRUE(std::isnan(settled[1].record.visible_fraction));
   EXPECT_EQ(settled[1].record.visible_px, 0);
+  EXPECT_TRUE(std::isnan(settled[1].record.visible_fraction_least));
   EXPECT_EQ(settled[2].record.visible_fraction, 250.0 / 800.0);
+  EXPECT_EQ(settled[2].record.visible_fraction_least, 0.25);
   EXPECT_FALSE(eval.AddVisibility(2 * kSecond, {{1000, 1000}}));
   eval.AddFrame(5 * kSecond);
   EXPECT_TRUE(std::isnan(eval.SettleAll(Truth)[0].record.visible_px));  // never measured

@@ -151,6 +151,7 @@ TEST(Report, CoverageAgainstVisibilityPerRegionAndBin) {
   for (size_t i = 0; i < frames.size(); ++i) {
     frames[i].visible_fraction = fractions[i];
     frames[i].visible_px = std::isnan(fractions[i]) ? 0.0 : 500.0 * fractions[i];
+    frames[i].visible_fraction_least = fractions[i] / 4.0;  // the other camera sees less
   }
   frames[4].region = aar_geometry::Region::kA;
   frames[4].range_m = 150.0;
@@ -166,6 +167,9 @@ TEST(Report, CoverageAgainstVisibilityPerRegionAndBin) {
       << report;
   EXPECT_NE(report.find("| naive | all | 1 / 1 | 0 / 1 | - | 0 / 1 | 1 / 1 | 1 / 1 |"),
             std::string::npos)
+      << report;
+  // By the camera that saw least (a quarter of the other's share): 0.025 .. 0.25.
+  EXPECT_NE(report.find("| naive | C | 1 / 3 | 1 / 1 | - | - | - | - |"), std::string::npos)
       << report;
   EXPECT_EQ(report.find("| dynamic | C |"), std::string::npos) << report;
   WriteFrameCsv(dir + "/naive/frames.csv", {Frame(1.0, 0.4)});
@@ -225,7 +229,7 @@ TEST(Report, MakeReportToolOnMismatchedFrameSetsAndBadInput) {
 
   std::ofstream(dir + "/broken/frames.csv") << FrameCsvHeader() << "\n0,36,C,1\n";
   EXPECT_NE(run(dir + " naive,broken naive"), 0);
-  EXPECT_NE(Read(dir + "/out.txt").find("broken/frames.csv: line 2: 4 cells, 30 expected"),
+  EXPECT_NE(Read(dir + "/out.txt").find("broken/frames.csv: line 2: 4 cells, 31 expected"),
             std::string::npos)
       << Read(dir + "/out.txt");
   EXPECT_NE(run(dir + " nothing"), 0);

@@ -186,17 +186,18 @@ TEST(Tables, CsvRoundTripAndErrors) {
     }
   };
   const std::string header = FrameCsvHeader() + "\n";
-  const std::string held = ",1,0,0,0,0,0,0,nan,nan,nan,nan,0,nan,nan\n";
+  const std::string held = ",1,0,0,0,0,0,0,nan,nan,nan,nan,0,nan,nan,nan\n";
   expect("t,x\n", "line 1: not a frame CSV header");
-  expect(header + "0,150,A,1\n", "line 2: 4 cells, 30 expected");
+  expect(header + "0,150,A,1\n", "line 2: 4 cells, 31 expected");
   expect(header + "0,150,A,1,abc,0,0,0,0,0,1,1,0,0,off,1" + held, "line 2: 'abc' is not a number");
   expect(header + "0,50,A,1,0,0,0,0,0,0,1,1,0,0,off,1" + held,
          "line 2: region 'A' does not match range 50");
   expect(header + "0,150,A,1,0,0,0,0,0,0,1,1,0,0,off,x" + held, "line 2: 'x' is not a number");
   expect(
-      header + "0,150,A,1,0,0,0,0,0,0,1,1,0,0,off,1,0,nan,nan,nan,nan,nan,nan,1,1,1,1,0,nan,nan\n",
+      header +
+          "0,150,A,1,0,0,0,0,0,0,1,1,0,0,off,1,0,nan,nan,nan,nan,nan,nan,1,1,1,1,0,nan,nan,nan\n",
       "line 2: estimated but not published");
-  expect(header + "0,150,A,1,0,0,0,0,0,0,1,1,0,0,off,1,1,0,0,0,0,0,0,1,x,1,1,0,nan,nan\n",
+  expect(header + "0,150,A,1,0,0,0,0,0,0,1,1,0,0,off,1,1,0,0,0,0,0,0,1,x,1,1,0,nan,nan,nan\n",
          "line 2: 'x' is not a number");
 }
 
@@ -206,7 +207,7 @@ TEST(Tables, IntegrityColumnsRoundTripAndTheOlderHeaderReads) {
   const std::string header = FrameCsvHeader();
   EXPECT_EQ(header.substr(header.find(",published_yaw_deg")),
             ",published_yaw_deg,pl_position_m,pl_attitude_deg,al_position_m,al_attitude_deg,alert,"
-            "visible_fraction,visible_px");
+            "visible_fraction,visible_px,visible_fraction_least");
   FrameRecord f;
   f.t = 1.5;
   f.range_m = 36.0;
@@ -241,18 +242,19 @@ TEST(Tables, IntegrityColumnsRoundTripAndTheOlderHeaderReads) {
     EXPECT_TRUE(std::isnan(g.al_attitude_deg));
     EXPECT_FALSE(g.alert);
   }
-  EXPECT_EQ(FrameCsvRow(f).substr(FrameCsvRow(f).rfind(",3,") + 3), "0.75,1.125,1,inf,1,nan,nan");
+  EXPECT_EQ(FrameCsvRow(f).substr(FrameCsvRow(f).rfind(",3,") + 3),
+            "0.75,1.125,1,inf,1,nan,nan,nan");
   // A frame not estimated writes no levels whatever its record holds.
   FrameRecord stale = f;
   stale.estimated = false;
   EXPECT_EQ(FrameCsvRow(stale).substr(FrameCsvRow(stale).rfind(",3,") + 3),
-            "nan,nan,nan,nan,1,nan,nan");
+            "nan,nan,nan,nan,1,nan,nan,nan");
   // The file of the format before integrity: every column up to published_yaw_deg.
   std::ifstream in(path);
   std::string text, line;
   while (std::getline(in, line)) {
     size_t end = line.size();
-    for (int i = 0; i < 7; ++i) end = line.rfind(',', end - 1);
+    for (int i = 0; i < 8; ++i) end = line.rfind(',', end - 1);
     text += line.substr(0, end) + "\n";
   }
   const auto older = ReadFrameCsv(Write("older.csv", text));
@@ -266,7 +268,7 @@ TEST(Tables, IntegrityColumnsRoundTripAndTheOlderHeaderReads) {
   for (size_t i = 0; i < 3; ++i) {
     const std::string row = FrameCsvRow(again[i]);
     size_t end = row.size();
-    for (int k = 0; k < 7; ++k) end = row.rfind(',', end - 1);
+    for (int k = 0; k < 8; ++k) end = row.rfind(',', end - 1);
     EXPECT_NE(text.find(row.substr(0, end) + "\n"), std::string::npos) << row;
   }
 }
@@ -280,11 +282,14 @@ TEST(Tables, VisibilityColumnsRoundTripAndTheOlderHeaderReads) {
   seen.region = aar_geometry::Region::kA;
   seen.visible_fraction = 0.375;
   seen.visible_px = 1200;
+  seen.visible_fraction_least = 0.125;
   FrameRecord in_no_view = seen;
   in_no_view.visible_fraction = std::numeric_limits<double>::quiet_NaN();
   in_no_view.visible_px = 0;
+  in_no_view.visible_fraction_least = std::numeric_limits<double>::quiet_NaN();
   FrameRecord unmeasured = seen;
-  unmeasured.visible_fraction = unmeasured.visible_px = std::numeric_limits<double>::quiet_NaN();
+  unmeasured.visible_fraction = unmeasured.visible_px = unmeasured.visible_fraction_least =
+      std::numeric_limits<double>::quiet_NaN();
   const std::string path =
       std::filesystem::temp_directory_path().string() + "/aar_eval_visibility.csv";
   WriteFrameCsv(path, {seen, in_no_view, unmeasured});
@@ -292,14 +297,22 @@ TEST(Tables, VisibilityColumnsRoundTripAndTheOlderHeaderReads) {
   ASSERT_EQ(again.size(), 3u);
   EXPECT_EQ(again[0].visible_fraction, 0.375);
   EXPECT_EQ(again[0].visible_px, 1200);
+  EXPECT_EQ(again[0].visible_fraction_least, 0.125);
   EXPECT_TRUE(std::isnan(again[1].visible_fraction));
   EXPECT_EQ(again[1].visible_px, 0);
   EXPECT_TRUE(std::isnan(again[2].visible_fraction));
   EXPECT_TRUE(std::isnan(again[2].visible_px));
   std::ifstream in(path);
   std::string text, line;
-  while (std::getline(in, line))
-    text += line.substr(0, line.rfind(',', line.rfind(',') - 1)) + "\n";
+  std::string before_least;  // the format of the first two visibility columns
+  while (std::getline(in, line)) {
+    const size_t least = line.rfind(',');
+    before_least += line.substr(0, least) + "\n";
+    text += line.substr(0, line.rfind(',', line.rfind(',', least - 1) - 1)) + "\n";
+  }
+  EXPECT_EQ(ReadFrameCsv(Write("before_least.csv", before_least))[0].visible_px, 1200);
+  EXPECT_TRUE(
+      std::isnan(ReadFrameCsv(Write("before_least.csv", before_least))[0].visible_fraction_least));
   const auto older = ReadFrameCsv(Write("older_visibility.csv", text));
   ASSERT_EQ(older.size(), 3u);
   EXPECT_TRUE(std::isnan(older[0].visible_px));

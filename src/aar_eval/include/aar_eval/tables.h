@@ -48,6 +48,9 @@ struct FrameRecord {
   // view has 0 pixels and a NaN fraction.
   double visible_fraction = std::numeric_limits<double>::quiet_NaN();
   double visible_px = std::numeric_limits<double>::quiet_NaN();
+  // The same share in the camera that saw least of it (a camera without the receiver in view,
+  // while another has it: 0): stereo needs both views. NaN as above.
+  double visible_fraction_least = std::numeric_limits<double>::quiet_NaN();
 };
 
 // |x, y, z| of a frame's own position error [m].
