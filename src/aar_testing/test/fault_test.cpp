@@ -409,7 +409,7 @@ TEST(Faults, BoomTfStallsFramesPassUnculledNamedThenCullingResumes) {
 TEST(Faults, CameraMountsStalledWhileAStageRestartsNamedThenResumes) {
   Graph g("mounts", "replay.launch bag:=" + kRoot +
                         "/rosbags/sample_contact.bag rate:=" + std::to_string(0.1 / kScale) +
-                        " realtime:=true newest_wins:=false manager:=false "
+                        " experiment:=dynamic realtime:=true newest_wins:=false manager:=false "
                         "output_dir:=%OUT%/eval");
   ASSERT_TRUE(g.WaitForEstimates(4, 90.0)) << g.Log();
   ASSERT_EQ(g.Signal("__name:=tf_static_merge", SIGSTOP).size(), 1u);

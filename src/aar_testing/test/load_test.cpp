@@ -74,7 +74,8 @@ TEST(Load, ReplayUnderACpuHogAndMemoryPressureAccountsForEveryFrame) {
   Hog hog("--cpu 2 --vm 1 --vm-bytes 4G --vm-keep --timeout 150s");
   ASSERT_GT(hog.pid(), 0);
   const aar_testing::CommandResult r = aar_testing::RunCommand(
-      "timeout 200 " + kRoot + "/scripts/replay --no-build --no-compare --rate 1 " + kRoot +
+      "timeout 200 " + kRoot +
+      "/scripts/replay --no-build --no-compare --experiment dynamic --rate 1 " + kRoot +
       "/rosbags/sample_contact.bag --out " + out + " 2>&1");
   std::printf("%s", r.output.c_str());
   EXPECT_EQ(aar_testing::RunCommand("kill -0 " + std::to_string(hog.pid())).status, 0)

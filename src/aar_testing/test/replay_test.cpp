@@ -34,9 +34,14 @@ const double kScale = aar_testing::TimeScale();
 std::string Timeout(double seconds) { return "timeout " + std::to_string(seconds * kScale) + " "; }
 std::string Rate(double rate) { return " --rate " + std::to_string(rate / kScale) + " "; }
 
+// The experiment these tests' bounds were measured with (the sample's live run's); scripts/replay
+// flies flight unless told.
+const char kExperiment[] = " --experiment dynamic ";
+
 // scripts/replay at `rate` (its default, 0.25, unless given) of the recorded speed.
 std::string Replay(const std::string& bag, const std::string& out, double rate = 0.25) {
-  return Timeout(300) + kRoot + "/scripts/replay --no-build" + Rate(rate) + bag + " --out " + out;
+  return Timeout(300) + kRoot + "/scripts/replay --no-build" + kExperiment + Rate(rate) + bag +
+         " --out " + out;
 }
 
 TEST(Replay, SampleBagReproducesTheLiveRun) {
@@ -65,8 +70,9 @@ TEST(Replay, SampleBagReproducesTheLiveRun) {
 TEST(Replay, FramesWithoutAnEstimateAreCountedNotASuccess) {
   const std::string out = ::testing::TempDir() + "/replay_fast";
   std::filesystem::remove_all(out);
-  const Result r = Sh(Timeout(300) + kRoot + "/scripts/replay --no-build --no-compare --rate 20 " +
-                      kRoot + "/rosbags/sample_contact.bag --out " + out);
+  const Result r =
+      Sh(Timeout(300) + kRoot + "/scripts/replay --no-build --no-compare" + kExperiment +
+         "--rate 20 " + kRoot + "/rosbags/sample_contact.bag --out " + out);
   std::printf("%s", r.output.c_str());
   std::smatch m;
   ASSERT_TRUE(std::regex_search(
@@ -85,8 +91,8 @@ TEST(Replay, TfOutageFramesAreNamedAndCounted) {
   const std::string out = ::testing::TempDir() + "/replay_outage";
   std::filesystem::remove_all(out);
   const Result r =
-      Sh(Timeout(300) + kRoot + "/scripts/replay --no-build --no-compare" + Rate(0.25) +
-         "--tf-outage 47,1 " + kRoot + "/rosbags/sample_contact.bag --out " + out);
+      Sh(Timeout(300) + kRoot + "/scripts/replay --no-build --no-compare" + kExperiment +
+         Rate(0.25) + "--tf-outage 47,1 " + kRoot + "/rosbags/sample_contact.bag --out " + out);
   std::printf("%s", r.output.c_str());
   EXPECT_EQ(r.status, 1);
   std::smatch m;
@@ -115,12 +121,12 @@ void KillMidFlightAndResume(const std::string& name, const std::string& pattern)
   std::filesystem::create_directories(out);
   const std::string csv = out + "/dynamic/frames.csv";
   // At a tenth of the recorded rate (30 s of playback), a stage has time to come back.
-  ASSERT_EQ(
-      Sh("(" + Timeout(300) + kRoot + "/scripts/replay --no-build --no-compare" + Rate(0.1) +
-         kRoot + "/rosbags/sample_contact.bag --out " + out + " > " + out + "/replay.log 2>&1; " +
-         "echo $? > " + out + "/status) > /dev/null 2>&1 & echo $! > " + out + "/pid")
-          .status,
-      0);
+  ASSERT_EQ(Sh("(" + Timeout(300) + kRoot + "/scripts/replay --no-build --no-compare" +
+               kExperiment + Rate(0.1) + kRoot + "/rosbags/sample_contact.bag --out " + out +
+               " > " + out + "/replay.log 2>&1; " + "echo $? > " + out +
+               "/status) > /dev/null 2>&1 & echo $! > " + out + "/pid")
+                .status,
+            0);
   // Once 8 frames are in, kill the process.
   auto rows = [&] { return Sh("[ -f " + csv + " ] && tail -n +2 " + csv + " | wc -l || echo 0"); };
   const auto start = std::chrono::steady_clock::now();

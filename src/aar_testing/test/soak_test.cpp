@@ -25,7 +25,9 @@ using Result = aar_testing::CommandResult;
 const auto Sh = aar_testing::RunCommand;
 
 std::string Soak(const std::string& out, const std::string& options) {
-  return "timeout 900 " + kRoot + "/scripts/soak --no-build --out " + out + " " + options;
+  // tracking: what these tests' bounds were measured with (scripts/soak flies flight unless told).
+  return "timeout 900 " + kRoot + "/scripts/soak --no-build --experiment tracking --out " + out +
+         " " + options;
 }
 
 std::string Read(const std::string& path) {

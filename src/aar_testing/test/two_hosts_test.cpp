@@ -65,8 +65,10 @@ class TwoHosts {
       : name("aarht" + std::to_string(::getpid() % 100000) + label),
         out(::testing::TempDir() + "/two_hosts_" + label) {
     std::filesystem::remove_all(out);
-    result = Sh("timeout -k 20 300 " + kRoot + "/scripts/two-hosts netns --no-build --name " +
-                name + " --out " + out + " " + options);
+    // tracking: what these tests' bounds were measured with (two-hosts flies flight unless told).
+    result = Sh("timeout -k 20 300 " + kRoot +
+                "/scripts/two-hosts netns --no-build --experiment tracking --name " + name +
+                " --out " + out + " " + options);
     std::printf("%s", result.output.c_str());
     summary = Read(out + "/summary.txt");
   }
