@@ -1,8 +1,9 @@
 // bench_render: stereo pairs rendered per second at the configured resolution, along the default
 // approach (far, mid and near frames): images only, with label + depth read back, with the label
 // and the receiver's visibility (World::MeasureVisibility, what the lockstep simulator adds per
-// frame since issue 44), and with every sensor effect on (config/realism/sensor.yaml's values: shot and read noise, motion blur over
-// 2 ms with the path's motion, gain mismatch, auto-exposure) side by side with them off.
+// frame since issue 44), and with every sensor effect on (config/realism/sensor.yaml's values: shot
+// and read noise, motion blur over 2 ms with the path's motion, gain mismatch, auto-exposure) side
+// by side with them off.
 //   bench_render FLIGHT_PATH [PAIRS_PER_POINT]
 // AAR_BENCH_NOISE: the read noise of the first two columns [grey levels] (default 2).
 // AAR_BENCH_SCENE=1 adds four columns with issue 16's effects, rendered in the same run: the
