@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "aar_alignment/boom_parts.h"
@@ -15,8 +16,9 @@ namespace {
 struct Placement {
   double score = 0.0;  // the search's
   double fit = 0.0;    // the outline's there (OutlineAligner::Score)
-  double range = 0.0;  // [m]
+  double range = 0.0;  // [m] along the axis of the camera it was found in
   Eigen::Isometry3d T_tanker_receiver = Eigen::Isometry3d::Identity();
+  const PinholeCamera* camera = nullptr;  // the camera whose image it was found in
 };
 
 // The receiver at `attitude`, `range` [m] along the left camera's ray through the image's centre.
@@ -30,17 +32,54 @@ Eigen::Isometry3d AtImageCentre(const PinholeCamera& c, const Eigen::Matrix3d& a
   return T;
 }
 
-// The prior of an alignment from `p`: `along` [m] along the left camera's ray to it, `across`
-// [m] across it, `rotation` [rad].
-Matrix6d PlacementCovariance(const PinholeCamera& c, const Placement& p, double along,
-                             double across, double rotation) {
+// The prior of an alignment from `p`: `along` [m] along its camera's ray to it, `across` [m]
+// across it, `rotation` [rad].
+Matrix6d PlacementCovariance(const Placement& p, double along, double across, double rotation) {
   const Eigen::Vector3d u =
-      (p.T_tanker_receiver.translation() - c.T_tanker_optical.translation()).normalized();
+      (p.T_tanker_receiver.translation() - p.camera->T_tanker_optical.translation()).normalized();
   Matrix6d covariance = Matrix6d::Zero();
   covariance.topLeftCorner<3, 3>() = across * across * Eigen::Matrix3d::Identity() +
                                      (along * along - across * across) * u * u.transpose();
   covariance.bottomRightCorner<3, 3>() = rotation * rotation * Eigen::Matrix3d::Identity();
   return covariance;
+}
+
+// Whether enough of the outline is seen at an alignment or a placement (AcquisitionOptions::
+// min_visible): of both views' lines together, or with both_views in either view alone.
+bool Seen(const AcquisitionOptions& o, const AlignmentResult& r) {
+  if (!r.valid) return false;
+  if (!o.both_views) return r.lines >= o.min_visible * r.outline_lines;
+  for (int v = 0; v < 2; ++v) {
+    if (r.view_outline_lines[v] > 0 && r.view_lines[v] >= o.min_visible * r.view_outline_lines[v])
+      return true;
+  }
+  return false;
+}
+
+// The search over the image of `camera` (`image`, `boom` its mask) at every range: the
+// placements seen, into `placements`; returns the ranges whose search found one.
+int SearchRanges(const OutlineAligner& aligner, const AlignmentInput& in, const cv::Mat& image,
+                 const PinholeCamera& camera, const AcquisitionOptions& o,
+                 std::vector<Placement>& placements) {
+  const cv::Mat boom = BoomMask(camera, in.boom_parts_in_tanker, aligner.options().boom_margin_px);
+  ShiftSearchOptions search;
+  search.radius_px = 0.5 * std::max(camera.width, camera.height) + 1.0;  // the whole image
+  search.template_size = o.template_size;
+  search.uniform_scores_zero = true;
+  int ranges = 0;
+  for (double range = o.min_range; range <= o.max_range * (1.0 + 1e-9); range *= o.range_step) {
+    const ShiftSearchResult s =
+        SearchShift(aligner.model(), image, boom, camera,
+                    AtImageCentre(camera, in.T_tanker_receiver_predicted.linear(), range), search);
+    if (!s.valid) continue;
+    ++ranges;
+    AlignmentInput a = in;
+    a.T_tanker_receiver_predicted = s.T_tanker_receiver;
+    const AlignmentResult fit = aligner.Score(a);
+    if (Seen(o, fit))
+      placements.push_back({s.score, fit.quality, range, s.T_tanker_receiver, &camera});
+  }
+  return ranges;
 }
 
 double MsSince(std::chrono::steady_clock::time_point start) {
@@ -68,31 +107,15 @@ AcquisitionResult Acquire(const OutlineAligner& aligner, const AlignmentInput& i
   AcquisitionResult out;
   out.error = CheckAlignmentInput(in);
   if (!out.error.empty()) return out;
-  const PinholeCamera& c = in.left_camera;
-  auto seen = [&o](const AlignmentResult& r) {
-    return r.valid && r.lines >= o.min_visible * r.outline_lines;
-  };
-  const cv::Mat boom = BoomMask(c, in.boom_parts_in_tanker, aligner.options().boom_margin_px);
-  ShiftSearchOptions search;
-  search.radius_px = 0.5 * std::max(c.width, c.height) + 1.0;  // the whole image
-  search.template_size = o.template_size;
-  search.uniform_scores_zero = true;
   std::vector<Placement> placements;
-  for (double range = o.min_range; range <= o.max_range * (1.0 + 1e-9); range *= o.range_step) {
-    const ShiftSearchResult s =
-        SearchShift(aligner.model(), in.left, boom, c,
-                    AtImageCentre(c, in.T_tanker_receiver_predicted.linear(), range), search);
-    if (!s.valid) continue;
-    ++out.ranges;
-    AlignmentInput a = in;
-    a.T_tanker_receiver_predicted = s.T_tanker_receiver;
-    const AlignmentResult fit = aligner.Score(a);
-    if (seen(fit)) placements.push_back({s.score, fit.quality, range, s.T_tanker_receiver});
-  }
+  out.ranges = SearchRanges(aligner, in, in.left, in.left_camera, o, placements);
+  if (o.both_views)
+    out.ranges += SearchRanges(aligner, in, in.right, in.right_camera, o, placements);
   if (placements.empty()) {
     out.error =
         out.ranges == 0
-            ? "the silhouette fits the left image at none of the ranges searched"
+            ? std::string("the silhouette fits ") + (o.both_views ? "either" : "the left") +
+                  " image at none of the ranges searched"
             : "where the silhouette fits best, less than min_visible of its outline is seen";
     out.time_ms = MsSince(start);
     return out;
@@ -106,10 +129,10 @@ AcquisitionResult Acquire(const OutlineAligner& aligner, const AlignmentInput& i
     AlignmentInput a = in;
     a.T_tanker_receiver_predicted = p.T_tanker_receiver;
     a.prediction_covariance =
-        PlacementCovariance(c, p, p.range * (o.range_step - 1.0), o.sigma_across, o.sigma_rotation);
+        PlacementCovariance(p, p.range * (o.range_step - 1.0), o.sigma_across, o.sigma_rotation);
     const AlignmentResult r = aligner.Align(a);
     ++out.aligned;
-    if (!seen(r)) {
+    if (!Seen(o, r)) {
       if (out.error.empty())
         out.error = r.valid ? "aligned, less than min_visible of the outline is seen" : r.error;
       continue;

@@ -55,7 +55,8 @@ struct Pass {
   Matrix6d H = Matrix6d::Zero();
   Vector6d g = Vector6d::Zero();
   int usable = 0;
-  double fit = 0.0;  // sum over usable lines of Line::fit
+  std::array<int, 2> view_usable{};  // per view
+  double fit = 0.0;                  // sum over usable lines of Line::fit
   int inliers = 0;
 };
 
@@ -95,6 +96,7 @@ Pass Evaluate(const AlignmentOptions& o, const std::vector<View>& views,
   for (const Line& l : pass.lines) {
     if (!l.usable) continue;
     ++pass.usable;
+    ++pass.view_usable[l.view];
     const Eigen::Matrix<double, 1, 6> j = Jacobian(views[l.view], R, p, l);
     pass.H += j.transpose() * j / l.variance;
     pass.g += j.transpose() * l.mean / l.variance;
@@ -295,6 +297,9 @@ class OutlineAligner::Run {
   void Finish(const Pass& last, AlignmentResult& out) const {
     out.lines = last.usable;
     out.outline_lines = static_cast<int>(contours_[0].size() + contours_[1].size());
+    out.view_lines = last.view_usable;
+    out.view_outline_lines = {static_cast<int>(contours_[0].size()),
+                              static_cast<int>(contours_[1].size())};
     out.information = last.H / o_.covariance_scale;
     out.covariance = (out.information + prior_).inverse();
     out.covariance = 0.5 * (out.covariance + out.covariance.transpose()).eval();

@@ -8,7 +8,8 @@ namespace aar_alignment {
 
 // Acquisition from the images alone (issue 27; not in the thesis): where stereo gives the tracker
 // nothing to start from (far out the receiver yields a few dozen points, and behind the boom
-// none), its silhouette at the expected attitude is searched over the whole left image at ranges
+// none), its silhouette at the expected attitude is searched over the whole left image (with
+// both_views, each image) at ranges
 // from min_range to max_range (SearchShift at each, the boom masked), the placements whose
 // outline fits best (OutlineAligner::Score) are aligned in both images (OutlineAligner::Align, from
 // a prior long along the line of sight: the outline's size fixes the range), and the best fit is
@@ -24,6 +25,11 @@ struct AcquisitionOptions {
   // lines in many wrong places (far out, farther and smaller receivers whose fuselage the boom
   // hides fit the real one's wingtips).
   double min_visible = 0.6;
+  // Search the right image too, and count a placement or an alignment as seen when either view
+  // sees min_visible of its own outline (false: the left image, both views' lines together).
+  // Far out the cameras, 0.5 m apart with the boom a few metres away, may see it differently:
+  // the boom hid 90 % of a receiver from the left camera that the right one saw whole.
+  bool both_views = false;
   // The prior of an alignment from a placement: across the line of sight [m], about the expected
   // attitude [rad]; along the line of sight it is the range grid's step at that range.
   double sigma_across = 1.0;

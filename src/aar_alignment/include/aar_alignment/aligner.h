@@ -1,5 +1,6 @@
 #pragma once
 
+#include <array>
 #include <string>
 #include <vector>
 
@@ -103,6 +104,8 @@ struct AlignmentResult {
   // The outline's lines at the final pose, both images, usable or not (a line is unusable when it
   // leaves the image or crosses the boom): lines / outline_lines is the share of the outline seen.
   int outline_lines = 0;
+  // The same per view (left, right): one view may see the outline the boom hides from the other.
+  std::array<int, 2> view_lines{}, view_outline_lines{};
   Eigen::Vector2d search_shift_px = Eigen::Vector2d::Zero();  // what the coarse search moved
   int iterations = 0;
   double time_ms = 0.0;

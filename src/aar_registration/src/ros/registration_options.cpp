@@ -116,6 +116,7 @@ OutlineOptions LoadOutlineOptions(aar_ros_common::ParamReader& params, OutlineOp
   acquisition.max_range = params.Get("outline_image_start_max_range", acquisition.max_range);
   acquisition.range_step = params.Get("outline_image_start_range_step", acquisition.range_step);
   acquisition.min_visible = params.Get("outline_image_start_min_visible", acquisition.min_visible);
+  acquisition.both_views = params.Get("outline_image_start_both_views", acquisition.both_views);
   aar_alignment::AlignmentOptions& a = outline.alignment;
   a.contour_points = params.Get("outline_contour_points", a.contour_points);
   a.mask_size = params.Get("outline_mask_size", a.mask_size);
