@@ -84,7 +84,10 @@ std::vector<SettledFrame> Evaluator::SettleReady(double now_s, const TruthReady&
   while (!frames_.empty()) {
     const Announced& f = frames_.front();
     const bool due = now_s - f.at_s >= settle_after_;
-    if (!due && !(Resolved(f.stamp_ns) && ready(f.stamp_ns))) break;
+    // Once the simulator measures visibility, a frame waits for its own as for its truth: the
+    // message travels on its own connection and may come after the estimate.
+    const bool visibility = !visibility_seen_ || visibility_.count(f.stamp_ns);
+    if (!due && !(Resolved(f.stamp_ns) && ready(f.stamp_ns) && visibility)) break;
     out.push_back(SettleFront(truth));
   }
   return out;
@@ -99,6 +102,7 @@ std::vector<SettledFrame> Evaluator::SettleAll(const TruthLookup& truth) {
 bool Evaluator::AddVisibility(int64_t stamp_ns, const std::vector<CameraVisibility>& views) {
   if (settled_.count(stamp_ns)) return false;
   visibility_[stamp_ns] = views;
+  visibility_seen_ = true;
   return true;
 }
 

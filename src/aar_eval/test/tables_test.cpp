@@ -7,6 +7,8 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <string>
+#include <vector>
 
 #include <aar_geometry/load_error.h>
 
@@ -17,6 +19,14 @@ std::string Write(const std::string& name, const std::string& text) {
   const std::string path = std::filesystem::temp_directory_path().string() + "/aar_eval_" + name;
   std::ofstream(path) << text;
   return path;
+}
+
+// The frames written to DIR/aar_eval_NAME and read back; the path in `path`.
+std::vector<FrameRecord> RoundTrip(const std::string& name, const std::vector<FrameRecord>& frames,
+                                   std::string* path) {
+  *path = std::filesystem::temp_directory_path().string() + "/aar_eval_" + name;
+  WriteFrameCsv(*path, frames);
+  return ReadFrameCsv(*path);
 }
 
 // Hand-made: region A has two estimates (x = 1 and -3; yaw = 2 and 2) and one miss, region B one
@@ -226,9 +236,8 @@ TEST(Tables, IntegrityColumnsRoundTripAndTheOlderHeaderReads) {
   FrameRecord miss = none;
   miss.estimated = false;
   miss.published_error = {1, 1, 1, 1, 1, 1};
-  const std::string path = std::filesystem::temp_directory_path().string() + "/aar_eval_pl.csv";
-  WriteFrameCsv(path, {f, none, miss});
-  const auto again = ReadFrameCsv(path);
+  std::string path;
+  const auto again = RoundTrip("pl.csv", {f, none, miss}, &path);
   ASSERT_EQ(again.size(), 3u);
   EXPECT_EQ(again[0].pl_position_m, 0.75);
   EXPECT_EQ(again[0].pl_attitude_deg, 1.125);
@@ -290,10 +299,8 @@ TEST(Tables, VisibilityColumnsRoundTripAndTheOlderHeaderReads) {
   FrameRecord unmeasured = seen;
   unmeasured.visible_fraction = unmeasured.visible_px = unmeasured.visible_fraction_least =
       std::numeric_limits<double>::quiet_NaN();
-  const std::string path =
-      std::filesystem::temp_directory_path().string() + "/aar_eval_visibility.csv";
-  WriteFrameCsv(path, {seen, in_no_view, unmeasured});
-  const auto again = ReadFrameCsv(path);
+  std::string path;
+  const auto again = RoundTrip("visibility.csv", {seen, in_no_view, unmeasured}, &path);
   ASSERT_EQ(again.size(), 3u);
   EXPECT_EQ(again[0].visible_fraction, 0.375);
   EXPECT_EQ(again[0].visible_px, 1200);

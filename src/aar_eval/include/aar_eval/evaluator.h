@@ -87,7 +87,8 @@ class Evaluator {
   // A stage's report on a frame; false when the frame is already settled.
   bool AddOutcome(int64_t stamp_ns, const StageOutcome& outcome);
   // The simulator's visibility of the receiver in the frame's views; false when the frame is
-  // already settled. The frame's record takes the view with the most visible pixels.
+  // already settled. The frame's record takes the view with the most visible pixels. From the
+  // first one on, a frame waits for its visibility before it settles (or settle_after).
   bool AddVisibility(int64_t stamp_ns, const std::vector<CameraVisibility>& views);
 
   // The frames that are settled at `now_s`, in stamp order.
@@ -120,6 +121,7 @@ class Evaluator {
   std::map<int64_t, Estimate> estimates_;
   std::map<int64_t, std::vector<StageOutcome>> outcomes_;        // the stages' reports per frame
   std::map<int64_t, std::vector<CameraVisibility>> visibility_;  // per frame, until settled
+  bool visibility_seen_ = false;  // a visibility came: the simulator measures it
   std::vector<LedgerEntry> ledger_;
   std::vector<FrameRecord> records_;
   int no_truth_ = 0;

@@ -57,8 +57,8 @@ struct StereoFrame {
   std::map<std::string, Eigen::Isometry3d> T_tanker_links;  // boom links
 };
 
-// What the boom leaves of the receiver's silhouette in one camera's view (docs/TRACKING.md,
-// "Visibility"): a frame with little to see is missed by physics, not by the estimator.
+// What the boom leaves of the receiver's silhouette in one camera's view (docs/AVAILABILITY.md):
+// a frame with little to see is missed by physics, not by the estimator.
 struct ViewVisibility {
   int silhouette_px = 0;  // pixels of the receiver drawn alone, inside the view
   int visible_px = 0;     // of those, the ones the boom does not cover
