@@ -39,7 +39,8 @@ bool Count(const std::vector<const std::vector<FrameRecord>*>& runs, const std::
   bool measured = false;
   for (const std::vector<FrameRecord>* run : runs) {
     for (const FrameRecord& f : *run) {
-      if (std::isnan(f.visible_px)) continue;  // not measured
+      if (std::isnan(f.visible_px)) continue;                                 // not measured
+      if (std::isnan(f.*share) && !std::isnan(f.visible_fraction)) continue;  // this share not
       if (f.region == aar_geometry::Region::kOutside) continue;
       if (key != "all" && aar_geometry::RegionName(f.region) != key) continue;
       measured = true;
@@ -49,6 +50,15 @@ bool Count(const std::vector<const std::vector<FrameRecord>*>& runs, const std::
     }
   }
   return measured;
+}
+
+// Whether any frame has the least view's share (files before it have none).
+bool AnyLeast(const std::vector<ExperimentRuns>& experiments) {
+  for (const auto& [experiment, runs] : experiments)
+    for (const std::vector<FrameRecord>* run : runs)
+      for (const FrameRecord& f : *run)
+        if (!std::isnan(f.visible_fraction_least)) return true;
+  return false;
 }
 
 std::string BinHeader(size_t bin) {
@@ -96,13 +106,14 @@ std::string VisibilitySection(const std::vector<ExperimentRuns>& experiments) {
   const Columns<BinCounts> columns = VisibilityColumns();
   WriteTableHead(out, columns);
   for (const BinCounts& row : best) WriteTableRow(out, columns, row);
+  if (!AnyLeast(experiments)) return out.str();  // files from before the least view was written
+  const std::vector<BinCounts> least = rows(&FrameRecord::visible_fraction_least);
   out << "\nThe same by the camera that saw least of it: stereo needs the receiver in both "
-         "views, and the start from the images searches the left one. The cameras are 0.5 m "
-         "apart, the boom a few metres away: one may see a far receiver whole while the boom "
-         "hides it from the other.\n\n";
+         "views, and flight's start from the images searches the left one (flight_both_views: "
+         "both). The cameras are 0.5 m apart, the boom a few metres away: one may see a far "
+         "receiver whole while the boom hides it from the other.\n\n";
   WriteTableHead(out, columns);
-  for (const BinCounts& row : rows(&FrameRecord::visible_fraction_least))
-    WriteTableRow(out, columns, row);
+  for (const BinCounts& row : least) WriteTableRow(out, columns, row);
   return out.str();
 }
 

@@ -50,9 +50,9 @@ aar_msgs::Visibility VisibilityAt(int k, std::vector<uint32_t> silhouette,
   return v;
 }
 
-// Frames 2..8: estimates for all but 4 and 8; stereo reports dropping 8 (stale). Frame 2 has
-// the simulator's visibility (the best camera's is kept), frame 3 a malformed one (more visible
-// than there is: named and left out). Another node
+// Frames 2..8: estimates for all but 4 and 8; stereo reports dropping 8 (stale). Each frame has
+// the simulator's visibility (the best camera's is kept) but frame 3, whose is malformed (more
+// visible than there is: named and left out; the frame settles on time). Another node
 // publishes an estimate 1 km off for frame 7 before the registration's (the test node, eval's
 // ~estimate_publisher): ignored and named; so is a forger's for frame 6 that writes the
 // registration's caller id into its connection header (named by its link's URI). Each frame settles
@@ -112,8 +112,11 @@ TEST(Eval, FrameWithoutEstimateIsAMissNotACrash) {
                             "{position: {x: 1000.0}, orientation: {w: 1.0}}}' __name:=intruder"),
                 0);
     }
-    if (k == 2) visibility.publish(VisibilityAt(k, {1000, 1000}, {250, 400}));
-    if (k == 3) visibility.publish(VisibilityAt(k, {1000, 1000}, {250, 1400}));
+    // As the simulator does, before the frame; frame 3's is malformed (it settles on time).
+    if (k == 3)
+      visibility.publish(VisibilityAt(k, {1000, 1000}, {250, 1400}));
+    else
+      visibility.publish(VisibilityAt(k, {1000, 1000}, {250, 400}));
     sensor_msgs::CameraInfo info;
     info.header.stamp = ros::Time(k);
     frames.publish(info);

@@ -172,6 +172,13 @@ TEST(Report, CoverageAgainstVisibilityPerRegionAndBin) {
   EXPECT_NE(report.find("| naive | C | 1 / 3 | 1 / 1 | - | - | - | - |"), std::string::npos)
       << report;
   EXPECT_EQ(report.find("| dynamic | C |"), std::string::npos) << report;
+  // Frames of the format before the least view: the first table, not the second.
+  for (FrameRecord& f : frames) f.visible_fraction_least = std::nan("");
+  WriteFrameCsv(dir + "/naive/frames.csv", frames);
+  const std::string older = Read(WriteReport({dir, {"naive", "dynamic"}, "naive"}).path);
+  EXPECT_NE(older.find("| naive | C | 1 / 1 | 0 / 1 | - | 0 / 1 | 1 / 1 | - |"), std::string::npos)
+      << older;
+  EXPECT_EQ(older.find("camera that saw least"), std::string::npos) << older;
   WriteFrameCsv(dir + "/naive/frames.csv", {Frame(1.0, 0.4)});
   EXPECT_EQ(Read(WriteReport({dir, {"naive", "dynamic"}, "naive"}).path).find("visibility"),
             std::string::npos);

@@ -50,7 +50,8 @@ TEST(Config, EveryExperimentLoadsIntoEveryNode) {
         EXPECT_TRUE(occlusion.step.boom.cull_behind_boom);
         EXPECT_EQ(registration.registrar.reference, aar_registration::ReferenceKind::kWingsNose);
       }
-      const bool flight = name == "flight" || name == "flight_no_boom";
+      const bool flight =
+          name == "flight" || name == "flight_no_boom" || name == "flight_both_views";
       const bool outline = name == "tracking_outline" || flight;
       const bool ours = name == "tracking" || name == "tracking_robust" || outline;
       const bool robust = name == "tracking_robust" || outline;
@@ -62,6 +63,9 @@ TEST(Config, EveryExperimentLoadsIntoEveryNode) {
       EXPECT_EQ(occlusion.step.model_boom, name != "flight_no_boom") << name;
       EXPECT_EQ(registration.model_boom, name != "flight_no_boom") << name;
       EXPECT_EQ(stereo.roi.include_boom, name != "flight_no_boom") << name;
+      // flight_both_views: flight whose start from the images searches both cameras.
+      EXPECT_EQ(registration.registrar.outline.acquisition.both_views, name == "flight_both_views")
+          << name;
       if (outline) {
         EXPECT_EQ(registration.registrar.outline.disparity_sigma, 0.25);
       } else {
@@ -117,9 +121,9 @@ TEST(Config, EveryExperimentLoadsIntoEveryNode) {
       ADD_FAILURE() << "experiment " << name << ": " << e.what();
     }
   }
-  // The thesis's four, tracking, tracking_robust, tracking_outline, flight, flight_no_boom, the
-  // two ablations.
-  EXPECT_EQ(experiments, 11);
+  // The thesis's four, tracking, tracking_robust, tracking_outline, flight, flight_no_boom,
+  // flight_both_views, the two ablations.
+  EXPECT_EQ(experiments, 12);
 }
 
 // Every camera mount in config/mounts/ loads into the simulator over config/sim.yaml and moves
@@ -261,6 +265,7 @@ TEST(Config, RegistrationYamlHoldsTheStructsDefaults) {
   EXPECT_EQ(yo.acquisition.max_range, bo.acquisition.max_range);
   EXPECT_EQ(yo.acquisition.range_step, bo.acquisition.range_step);
   EXPECT_EQ(yo.acquisition.min_visible, bo.acquisition.min_visible);
+  EXPECT_EQ(yo.acquisition.both_views, bo.acquisition.both_views);
   EXPECT_EQ(yo.alignment.contour_points, bo.alignment.contour_points);
   EXPECT_EQ(yo.alignment.mask_size, bo.alignment.mask_size);
   EXPECT_EQ(yo.alignment.mask_max_scale, bo.alignment.mask_max_scale);

@@ -250,7 +250,9 @@ void EvalNode::OnVisibility(const aar_msgs::Visibility::ConstPtr& msg) {
   if (!evaluator_.AddVisibility(ToNs(msg->header.stamp), views)) {
     ROS_WARN_STREAM("eval: the visibility of stamp " << msg->header.stamp
                                                      << " came after its frame settled: left out");
+    return;
   }
+  Settle();  // its frame may wait for nothing else
 }
 
 void EvalNode::Settle() {
