@@ -109,27 +109,24 @@ bool Evaluator::AddVisibility(int64_t stamp_ns, const std::vector<CameraVisibili
 namespace {
 
 // The view that saw most of the receiver (most visible pixels; of equals, the larger share),
-// into the frame's record (0 pixels and a NaN share when none saw it). By pixels, not by share:
-// a sliver at the image's edge, wholly visible, is not the better view of a receiver another
-// camera sees whole.
+// into the frame's record (0 pixels and a NaN share when none saw it), and the least share of
+// any view (a view without the receiver in it: 0). By pixels, not by share: a sliver at the
+// image's edge, wholly visible, is not the better view of a receiver another camera sees whole.
 void TakeBestView(const std::vector<CameraVisibility>& views, FrameRecord& f) {
   f.visible_px = 0.0;
+  double least = std::numeric_limits<double>::infinity();
   for (const CameraVisibility& v : views) {
+    const double share =
+        v.silhouette_px > 0 ? static_cast<double>(v.visible_px) / v.silhouette_px : 0.0;
+    least = std::min(least, share);
     if (v.silhouette_px <= 0) continue;
-    const double fraction = static_cast<double>(v.visible_px) / v.silhouette_px;
     if (std::isnan(f.visible_fraction) || v.visible_px > f.visible_px ||
-        (v.visible_px == f.visible_px && fraction > f.visible_fraction)) {
-      f.visible_fraction = fraction;
+        (v.visible_px == f.visible_px && share > f.visible_fraction)) {
+      f.visible_fraction = share;
       f.visible_px = v.visible_px;
     }
   }
-  if (std::isnan(f.visible_fraction)) return;  // in no view
-  f.visible_fraction_least = f.visible_fraction;
-  for (const CameraVisibility& v : views) {
-    const double fraction =
-        v.silhouette_px > 0 ? static_cast<double>(v.visible_px) / v.silhouette_px : 0.0;
-    f.visible_fraction_least = std::min(f.visible_fraction_least, fraction);
-  }
+  if (!std::isnan(f.visible_fraction)) f.visible_fraction_least = least;  // else in no view
 }
 
 }  // namespace
