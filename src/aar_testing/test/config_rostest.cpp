@@ -50,8 +50,8 @@ TEST(Config, EveryExperimentLoadsIntoEveryNode) {
         EXPECT_TRUE(occlusion.step.boom.cull_behind_boom);
         EXPECT_EQ(registration.registrar.reference, aar_registration::ReferenceKind::kWingsNose);
       }
-      const bool flight =
-          name == "flight" || name == "flight_no_boom" || name == "flight_both_views";
+      const bool flight = name == "flight" || name == "flight_no_boom" ||
+                          name == "flight_both_views" || name == "flight_partial";
       const bool outline = name == "tracking_outline" || flight;
       const bool ours = name == "tracking" || name == "tracking_robust" || outline;
       const bool robust = name == "tracking_robust" || outline;
@@ -63,8 +63,13 @@ TEST(Config, EveryExperimentLoadsIntoEveryNode) {
       EXPECT_EQ(occlusion.step.model_boom, name != "flight_no_boom") << name;
       EXPECT_EQ(registration.model_boom, name != "flight_no_boom") << name;
       EXPECT_EQ(stereo.roi.include_boom, name != "flight_no_boom") << name;
-      // flight_both_views: flight whose start from the images searches both cameras.
-      EXPECT_EQ(registration.registrar.outline.acquisition.both_views, name == "flight_both_views")
+      // flight_both_views: flight whose start from the images searches both cameras;
+      // flight_partial: that, starting from 30 % of a view's outline instead of 60 %.
+      const bool partial = name == "flight_partial";
+      EXPECT_EQ(registration.registrar.outline.acquisition.both_views,
+                name == "flight_both_views" || partial)
+          << name;
+      EXPECT_EQ(registration.registrar.outline.acquisition.min_visible, partial ? 0.3 : 0.6)
           << name;
       if (outline) {
         EXPECT_EQ(registration.registrar.outline.disparity_sigma, 0.25);
@@ -122,8 +127,8 @@ TEST(Config, EveryExperimentLoadsIntoEveryNode) {
     }
   }
   // The thesis's four, tracking, tracking_robust, tracking_outline, flight, flight_no_boom,
-  // flight_both_views, the two ablations.
-  EXPECT_EQ(experiments, 12);
+  // flight_both_views, flight_partial, the two ablations.
+  EXPECT_EQ(experiments, 13);
 }
 
 // Every camera mount in config/mounts/ loads into the simulator over config/sim.yaml and moves

@@ -232,8 +232,11 @@ void RegistrationNode::Register(const sensor_msgs::PointCloud2::ConstPtr& msg) {
   RegistrarResult result;
   try {
     if (!problem.empty()) throw std::runtime_error(problem);
-    // The registrar says so too, but only after the tf wait this saves.
-    if (!registrar_.has_reference()) throw std::runtime_error("no reference model yet");
+    // The registrar says so too, but only after the tf wait this saves. With the outline the
+    // frame goes on: where the boom hides the receiver from one camera the reference (what both
+    // see) can be empty while the outline still fits in the other (issue 44).
+    if (!registrar_.has_reference() && !outline_)
+      throw std::runtime_error("no reference model yet");
     std::string error;
     const auto T_tanker_cloud = aar_ros_common::LookupTransform(
         tf_buffer_, options_.common.frames.tanker, msg->header.frame_id, msg->header.stamp,
