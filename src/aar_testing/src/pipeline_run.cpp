@@ -46,6 +46,7 @@ PipelineRun RunPipeline(const std::string& tag, const std::string& args, double 
     if (f.size() < 10) continue;
     PipelineFrame e;
     e.t = std::stod(f[0]);
+    e.range_m = std::stod(f[1]);
     e.estimated = f[3] == "1";
     if (e.estimated) {
       e.position_m = {std::stod(f[4]), std::stod(f[5]), std::stod(f[6])};

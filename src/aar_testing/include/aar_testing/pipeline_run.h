@@ -9,7 +9,8 @@ namespace aar_testing {
 
 // One frame of a pipeline run's frames.csv (aar_eval).
 struct PipelineFrame {
-  double t = 0.0;  // [s] path time
+  double t = 0.0;        // [s] path time
+  double range_m = 0.0;  // [m] the receiver's true range
   bool estimated = false;
   Eigen::Vector3d position_m = Eigen::Vector3d::Zero();  // error along the true receiver axes
   Eigen::Vector3d rpy_deg = Eigen::Vector3d::Zero();     // roll, pitch, yaw of the error
