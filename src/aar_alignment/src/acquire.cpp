@@ -45,15 +45,9 @@ Matrix6d PlacementCovariance(const Placement& p, double along, double across, do
 }
 
 // Whether enough of the outline is seen at an alignment or a placement (AcquisitionOptions::
-// min_visible): of both views' lines together, or with both_views in either view alone.
+// min_visible).
 bool Seen(const AcquisitionOptions& o, const AlignmentResult& r) {
-  if (!r.valid) return false;
-  if (!o.both_views) return r.lines >= o.min_visible * r.outline_lines;
-  for (int v = 0; v < 2; ++v) {
-    if (r.view_outline_lines[v] > 0 && r.view_lines[v] >= o.min_visible * r.view_outline_lines[v])
-      return true;
-  }
-  return false;
+  return r.valid && SeenShare(o, r) >= o.min_visible;
 }
 
 // The search over the image of `camera` (`image`, `boom` its mask) at every range: the
@@ -88,6 +82,15 @@ double MsSince(std::chrono::steady_clock::time_point start) {
 }
 
 }  // namespace
+
+double SeenShare(const AcquisitionOptions& o, const AlignmentResult& r) {
+  auto share = [](int lines, int outline) {
+    return outline > 0 ? static_cast<double>(lines) / outline : 0.0;
+  };
+  if (!o.both_views) return share(r.lines, r.outline_lines);
+  return std::max(share(r.view_lines[0], r.view_outline_lines[0]),
+                  share(r.view_lines[1], r.view_outline_lines[1]));
+}
 
 void AcquisitionOptions::Validate() const {
   auto fail = [](const std::string& what) { throw std::invalid_argument("acquisition: " + what); };

@@ -25,6 +25,8 @@ void OutlineOptions::Validate() const {
   acquisition.Validate();
   if (!(image_start_quality >= 0.0 && image_start_quality <= 1.0))
     fail("image_start_quality must lie in [0, 1]");
+  if (!(partial_below >= 0.0 && partial_below <= 1.0)) fail("partial_below must lie in [0, 1]");
+  if (partial_confirm < 0) fail("partial_confirm must be >= 0");
   if (!(information_floor_position > 0.0) || !(information_floor_rotation > 0.0))
     fail("information_floor_position and information_floor_rotation must be > 0");
 }
@@ -201,6 +203,7 @@ RegistrarResult Registrar::Register(const std::vector<Eigen::Vector3d>& all_sens
     if (!out.valid && out.error.empty()) out.error = out.track.reason;
   }
   AssessIntegrity(out);
+  WithholdPartialStart(out);
   out.registration_ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   return out;
@@ -261,6 +264,29 @@ void Registrar::AssessIntegrity(RegistrarResult& out) {
   if (out.valid) out.covariance = out.integrity.covariance;
 }
 
+void Registrar::WithholdPartialStart(RegistrarResult& out) {
+  if (partial_accepted_ < 0) return;
+  if (!out.tracking || tracker_.state() != TrackState::kTracking) {
+    partial_accepted_ = -1;  // lost: the next start decides again
+    return;
+  }
+  if (out.track.outcome == TrackOutcome::kAccepted)
+    ++partial_accepted_;
+  else if (out.track.outcome != TrackOutcome::kStarted)
+    partial_accepted_ = 0;  // the agreement must be unbroken
+  if (partial_accepted_ >= options_.outline.partial_confirm) {
+    partial_accepted_ = -1;
+    return;
+  }
+  if (!out.valid) return;
+  std::ostringstream s;
+  s << "a start from a partial view (" << 100.0 * partial_share_
+    << " % of the outline seen), not yet confirmed: " << partial_accepted_ << " of "
+    << options_.outline.partial_confirm << " frames accepted";
+  out.valid = false;
+  out.error = s.str();
+}
+
 namespace {
 
 // The frame's images, cameras and boom, with `T` as the prediction.
@@ -314,6 +340,7 @@ std::vector<Eigen::Vector3d> Outside(const std::vector<Eigen::Vector3d>& points,
 
 void Registrar::Start(double stamp_s, const std::vector<Eigen::Vector3d>& sensed,
                       const OutlineFrame& frame, RegistrarResult& out) {
+  partial_accepted_ = -1;  // a start from stereo's seeds is not a partial one
   const double radius = aar_geometry::HalfDiagonal(reference_points_);
   Eigen::Vector3d centroid = Eigen::Vector3d::Zero();  // of the reference, receiver frame
   for (const Eigen::Vector3d& p : reference_points_) centroid += p;
@@ -397,6 +424,9 @@ bool Registrar::ImageStart(double stamp_s, const OutlineFrame& frame, RegistrarR
       tracker_.Update(stamp_s, StartPose(a.alignment.T_tanker_receiver), a.alignment.covariance);
   out.outline_fused = true;
   out.error.clear();
+  partial_share_ = aar_alignment::SeenShare(options_.outline.acquisition, a.alignment);
+  const bool partial = partial_share_ < options_.outline.partial_below;
+  partial_accepted_ = partial && options_.outline.partial_confirm > 0 ? 0 : -1;
   std::ostringstream s;
   s << "started from the images alone (" << Quality(a.alignment) << ", searched from " << a.range_m
     << " m)";

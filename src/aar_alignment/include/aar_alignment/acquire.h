@@ -50,6 +50,10 @@ struct AcquisitionResult {
   double time_ms = 0.0;
 };
 
+// The share of an alignment's outline seen (inside the image, not behind the boom): of both views'
+// lines together, or with both_views that of the view that sees most of its own.
+double SeenShare(const AcquisitionOptions& options, const AlignmentResult& r);
+
 // `in`'s images, cameras and boom; its predicted pose gives only the attitude searched at (its
 // position is ignored). Never throws for bad images (valid = false and why).
 AcquisitionResult Acquire(const OutlineAligner& aligner, const AlignmentInput& in,

@@ -62,6 +62,13 @@ struct OutlineOptions {
   bool image_start = false;
   aar_alignment::AcquisitionOptions acquisition;
   double image_start_quality = 0.7;
+  // A start from the images alone that sees less than partial_below of its outline
+  // (aar_alignment::SeenShare) is a partial one: the track runs, but its poses are not
+  // published until partial_confirm frames in a row after the start had a measurement accepted
+  // (a wrong start from a few lines is rejected by the next frames' measurements and dropped
+  // unseen). partial_below 0: no start is partial.
+  double partial_below = 0.0;
+  int partial_confirm = 2;
   // The prior of an alignment from an ICP pose (a start, or a maneuver's registration).
   double start_sigma_position = 2.0;   // [m]
   double start_sigma_rotation = 0.05;  // [rad]
@@ -261,12 +268,19 @@ class Registrar {
   // The frame's integrity from its pose, covariance and what the tracker did; an unconfirmed
   // track's covariance gains the start's (StartCovariance: how far off an acquisition can be).
   void AssessIntegrity(RegistrarResult& out);
+  // Withholds the pose of a partial start's track until it is confirmed (OutlineOptions::
+  // partial_confirm): out.valid false and why.
+  void WithholdPartialStart(RegistrarResult& out);
 
   RegistrarOptions options_;
   Icp icp_;
   std::unique_ptr<aar_alignment::OutlineAligner> aligner_;
   int poor_outline_frames_ = 0;
-  std::vector<Eigen::Vector3d> reference_points_;                 // receiver frame
+  // Frames accepted in a row since a partial start from the images (OutlineOptions::
+  // partial_below); -1: the track is not a partial start's, or it is confirmed.
+  int partial_accepted_ = -1;
+  double partial_share_ = 0.0;                     // the share of its outline the partial start saw
+  std::vector<Eigen::Vector3d> reference_points_;  // receiver frame
   std::vector<Eigen::Vector3d> reference_normals_;                // SetReference's, if any
   std::optional<std::pair<double, Eigen::Isometry3d>> previous_;  // stamp [s], T_tanker_receiver
   std::optional<Eigen::Vector3d> eye_;  // this frame's left camera, tanker frame (Register's)

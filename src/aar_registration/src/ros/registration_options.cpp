@@ -117,6 +117,9 @@ OutlineOptions LoadOutlineOptions(aar_ros_common::ParamReader& params, OutlineOp
   acquisition.range_step = params.Get("outline_image_start_range_step", acquisition.range_step);
   acquisition.min_visible = params.Get("outline_image_start_min_visible", acquisition.min_visible);
   acquisition.both_views = params.Get("outline_image_start_both_views", acquisition.both_views);
+  outline.partial_below = params.Get("outline_image_start_partial_below", outline.partial_below);
+  outline.partial_confirm =
+      params.Get("outline_image_start_partial_confirm", outline.partial_confirm);
   aar_alignment::AlignmentOptions& a = outline.alignment;
   a.contour_points = params.Get("outline_contour_points", a.contour_points);
   a.mask_size = params.Get("outline_mask_size", a.mask_size);
@@ -145,6 +148,9 @@ OutlineOptions LoadOutlineOptions(aar_ros_common::ParamReader& params, OutlineOp
   params.Check(acquisition.range_step > 1.0, "outline_image_start_range_step", "must be > 1");
   params.Check(acquisition.min_visible >= 0.0 && acquisition.min_visible <= 1.0,
                "outline_image_start_min_visible", "must lie in [0, 1]");
+  params.Check(outline.partial_below >= 0.0 && outline.partial_below <= 1.0,
+               "outline_image_start_partial_below", "must lie in [0, 1]");
+  params.Check(outline.partial_confirm >= 0, "outline_image_start_partial_confirm", "must be >= 0");
   params.Check(!outline.image_start || outline.enabled, "outline_image_start",
                "needs outline: true");
   params.Check(a.contour_points >= 8, "outline_contour_points", "must be >= 8");
