@@ -394,6 +394,8 @@ TEST(Registrar, RefusesOptionsThatCannotWork) {
            [](OutlineOptions& o) { o.disparity_sigma = -0.1; },
            [](OutlineOptions& o) { o.alignment.scales = {}; },
            [](OutlineOptions& o) { o.image_start_quality = -0.1; },
+           [](OutlineOptions& o) { o.partial_below = 1.5; },
+           [](OutlineOptions& o) { o.partial_confirm = -1; },
            [](OutlineOptions& o) { o.acquisition.min_visible = 1.5; },
            [](OutlineOptions& o) { o.acquisition.range_step = 0.9; }}) {
     options = {};
