@@ -18,7 +18,8 @@ DEFAULTS = {
     "realism": "naive,no_boom,static_wings_nose,dynamic,tracking",
 }
 # The other scripts whose logic is the driver's (each scripts/NAME execs it with NAME).
-SCRIPTS = {"bench-realtime": "bench_realtime", "two-hosts": "two_hosts", "slurm-local": "slurm_local"}
+SCRIPTS = {"bench-realtime": "bench_realtime", "two-hosts": "two_hosts",
+           "slurm-local": "slurm_local", "replay": "replay", "capture": "capture"}
 HELD = []  # the campaign folder's lock, held until the driver exits
 PLAN_KEYS = ("receiver", "flight_path", "experiments", "frames", "start_time", "sim_config",
              "out", "suite", "seed", "rate", "noise", "worlds")
