@@ -11,6 +11,13 @@ from campaign import workspace
 NUMBER = re.compile(r"([0-9]+\.?[0-9]*|\.[0-9]+)([eE][-+]?[0-9]+)?")
 
 
+def absolute(path, caller):
+    """A path as the caller meant it, as preamble.bash's absolute(): a relative path is the
+    caller's, joined as given (not normalised: messages and the files' names quote it as given,
+    and tests look for it so)."""
+    return path if not path or path.startswith("/") else f"{caller}/{path}"
+
+
 def refuse(flag, what, value):
     workspace.fail(f"{flag} takes {what}, not '{value}'")
 

@@ -56,7 +56,7 @@ def parse(argv):
     a = p.parse_args(argv)
     caller = os.getcwd()
     for k in ("flight_path", "sim_config", "bag", "out"):
-        setattr(a, k, workspace.absolute(getattr(a, k), caller))
+        setattr(a, k, arguments.absolute(getattr(a, k), caller))
     arguments.positive("--rate", a.rate)
     if a.speed:
         arguments.positive("--speed", a.speed)

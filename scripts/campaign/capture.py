@@ -25,8 +25,8 @@ def parse(argv):
     p.add_argument("--no-build", action="store_true")
     a = p.parse_args(argv)
     caller = os.getcwd()
-    a.bag = workspace.absolute(a.bags[-1], caller) if a.bags else ""
-    a.out = workspace.absolute(a.out, caller)
+    a.bag = arguments.absolute(a.bags[-1], caller) if a.bags else ""
+    a.out = arguments.absolute(a.out, caller)
     if not os.path.isfile(a.bag):
         fail(f"bag '{a.bag}' does not exist")
     if not re.fullmatch(r"[1-9][0-9]*(,[1-9][0-9]*)*", a.frames):

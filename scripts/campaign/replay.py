@@ -58,9 +58,9 @@ def parse(argv):
     if not a.bags:
         p.print_usage(sys.stderr)
         sys.exit(2)
-    a.bag = workspace.absolute(a.bags[0], caller)
-    a.out = workspace.absolute(a.out, caller)
-    a.compare = workspace.absolute(a.compare, caller)
+    a.bag = arguments.absolute(a.bags[0], caller)
+    a.out = arguments.absolute(a.out, caller)
+    a.compare = arguments.absolute(a.compare, caller)
     if not os.path.isfile(a.bag):
         fail(f"bag '{a.bag}' does not exist")
     if not os.path.isfile(os.path.join(ROOT, "config/experiments", a.experiment + ".yaml")):

@@ -257,10 +257,10 @@ def camera(argv):
         bad(f"camera: --rate takes frames per second (above 0, at most 60), not '{a.rate}'")
     if not NUMBER.fullmatch(a.start_time):
         bad(f"camera: --start-time takes seconds, not '{a.start_time}'")
-    path = workspace.absolute(a.flight_path, caller)
+    path = arguments.absolute(a.flight_path, caller)
     if not os.path.isfile(path):
         bad(f"camera: --flight-path '{path}' does not exist")
-    bag = workspace.absolute(a.bag, caller)
+    bag = arguments.absolute(a.bag, caller)
     if bag and not os.path.isfile(bag):
         bad(f"camera: --bag '{bag}' does not exist")
     if not (NUMBER.fullmatch(a.bag_rate) and float(a.bag_rate) > 0):
@@ -272,7 +272,7 @@ def camera(argv):
     check_local_ip("camera", a.ip)
     if not a.no_firewall:
         check_peer("camera", a.peer, a.ip)
-    out = workspace.absolute(a.out, caller)
+    out = arguments.absolute(a.out, caller)
     try:
         os.makedirs(out, exist_ok=True)
         writable = os.access(out, os.W_OK)
@@ -927,7 +927,7 @@ def netns(argv):
         bad(f"netns: --rate takes frames per second from 0.5 to 30, not '{a.rate}'")
     if not (re.fullmatch(r"[0-9]{1,4}", a.phase) and int(a.phase) >= 4):
         bad(f"netns: --phase takes whole seconds (at least 4), not '{a.phase}'")
-    a.flight_path = workspace.absolute(a.flight_path, caller)
+    a.flight_path = arguments.absolute(a.flight_path, caller)
     if a.flight_path and not os.path.isfile(a.flight_path):
         bad(f"netns: --flight-path '{a.flight_path}' does not exist")
     if not re.fullmatch(r"[a-z][a-z0-9]{1,12}", a.name):  # the link's ends: NAMEc, NAMEp (15)
@@ -949,7 +949,7 @@ def netns(argv):
         if ns in namespaces():
             bad(f"netns: namespace '{ns}' exists already (another run's, or a killed one's: see "
                 f"'ip netns pids {ns}'; 'ip netns del {ns}' removes it)")
-    a.out = workspace.absolute(a.out, caller) or os.path.join(
+    a.out = arguments.absolute(a.out, caller) or os.path.join(
         ROOT, f"results/two-hosts-{workspace.utc_stamp()}")
     try:
         os.makedirs(a.out, exist_ok=True)
