@@ -1,6 +1,6 @@
-"""Checks shared by the scripts' own command lines (those not the campaign's), as
-scripts/lib/preamble.bash's for the bash ones: each refuses a bad value at once, naming the flag
-and the value, and exits 2 ("PROG: --rate takes a number above 0, not '0'")."""
+"""Checks shared by the scripts' own command lines (those not the campaign's; the bash ones'
+nonnegative and whole are scripts/lib/preamble.bash's): each refuses a bad value at once, naming
+the flag and the value, and exits 2 ("PROG: --rate takes a number above 0, not '0'")."""
 import argparse
 import re
 import sys
@@ -28,20 +28,6 @@ def positive(flag, value, most=None):
     if not NUMBER.fullmatch(value) or not 0 < float(value) <= (most if most is not None
                                                                  else float("inf")):
         refuse(flag, what, value)
-    return value
-
-
-def nonnegative(flag, value):
-    """A number of at least 0 (e.g. a path time)."""
-    if not NUMBER.fullmatch(value):
-        refuse(flag, "a number of at least 0", value)
-    return value
-
-
-def whole(flag, value, least=0):
-    """A whole number of at least `least`, at most 9 digits."""
-    if not re.fullmatch(r"[0-9]{1,9}", value) or int(value) < least:
-        refuse(flag, f"a whole number of at least {least}", value)
     return value
 
 
