@@ -1,6 +1,7 @@
-"""Checks shared by the scripts' own command lines (those not the campaign's; the bash ones'
-nonnegative and whole are scripts/lib/preamble.bash's): each refuses a bad value at once, naming
-the flag and the value, and exits 2 ("PROG: --rate takes a number above 0, not '0'")."""
+"""Checks shared by the command lines of the scripts in Python that are not the campaign's:
+each refuses a bad value at once, naming the flag and the value, and exits 2 ("PROG: --rate
+takes a number above 0, not '0'"). The shell scripts' nonnegative and whole are
+scripts/lib/preamble.bash's."""
 import argparse
 import re
 import sys
