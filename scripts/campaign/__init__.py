@@ -2,4 +2,5 @@
 run, provenance, engines (local processes or Slurm job arrays), resuming and the reports.
 
 scripts/run, scripts/run --suite and scripts/realism are thin wrappers around it
-(docs/CLUSTER.md)."""
+(docs/CLUSTER.md); so are scripts/bench-realtime, two-hosts, slurm-local, replay and capture,
+each around a module of its own here (cli.SCRIPTS)."""

@@ -1,7 +1,8 @@
 """Command lines of scripts/run (one path: the main job), scripts/run --suite (seeded
-approaches) and scripts/realism (a suite per world), and the Slurm jobs' own (task, merge).
-Arguments are checked before anything is set up, built or flown."""
+approaches) and scripts/realism (a suite per world), and the Slurm jobs' own (task, merge);
+the other scripts that are wrappers (SCRIPTS) handed to their modules. Arguments are checked before anything is set up, built or flown."""
 import argparse
+import importlib
 import os
 import re
 import subprocess
@@ -16,6 +17,9 @@ DEFAULTS = {
     "suite": "naive,no_boom,culling_only,dynamic_reference_only,dynamic,flight",
     "realism": "naive,no_boom,static_wings_nose,dynamic,tracking",
 }
+# The other scripts whose logic is the driver's (each scripts/NAME execs it with NAME).
+SCRIPTS = {"bench-realtime": "bench_realtime", "two-hosts": "two_hosts",
+           "slurm-local": "slurm_local", "replay": "replay", "capture": "capture"}
 HELD = []  # the campaign folder's lock, held until the driver exits
 PLAN_KEYS = ("receiver", "flight_path", "experiments", "frames", "start_time", "sim_config",
              "out", "suite", "seed", "rate", "noise", "worlds")
@@ -131,6 +135,13 @@ def _main(argv):
     if argv and argv[0] == "cost":
         from campaign import cost
         return cost.main(argv[1:])
+    if argv and argv[0] in SCRIPTS:  # scripts/NAME, a wrapper around campaign/MODULE.py
+        return importlib.import_module("campaign." + SCRIPTS[argv[0]]).main(argv[1:])
+    if argv and argv[0] in ("bench-realtime-retime", "bench-realtime-skips"):  # BAG; FILE
+        from campaign import bench_realtime  # its helpers, run in the ROS environment
+        helper = {"bench-realtime-retime": bench_realtime.retime,
+                  "bench-realtime-skips": bench_realtime.skips_recorder}[argv[0]]
+        return helper(argv[1])
     kind, argv = argv[0], argv[1:]
     if kind == "run" and argv and argv[0] == "--show-experiment":
         return show_experiment(argv[1:])

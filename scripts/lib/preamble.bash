@@ -23,17 +23,12 @@ source_devel() {
 }
 
 # Numeric arguments, checked before anything starts; each exits 2 naming the flag and the value.
-#   positive FLAG VALUE [MAX] a number > 0 (e.g. a rate), at most MAX if given
 #   nonnegative FLAG VALUE    a number >= 0 (e.g. a path time)
-# Numbers: decimal, with an exponent if wanted (0.25, 2.5e-1).
 #   whole FLAG VALUE [MIN]    a whole number >= MIN (default 0), at most 9 digits
+# Numbers: decimal, with an exponent if wanted (0.25, 2.5e-1). A number above 0 (a rate) is the
+# Python scripts' only (scripts/campaign/arguments.py's positive).
 refuse_argument() { echo "$(basename "$0"): $1 takes $2, not '$3'" >&2; exit 2; }
 number_re='^([0-9]+\.?[0-9]*|\.[0-9]+)([eE][-+]?[0-9]+)?$'
-positive() {
-  local what="a number above 0${3:+ and at most $3}"
-  [[ "$2" =~ $number_re ]] && awk -v v="$2" -v m="${3:-}" 'BEGIN {exit !(v > 0 && (m == "" || v <= m + 0))}' ||
-    refuse_argument "$1" "$what" "$2"
-}
 nonnegative() {
   [[ "$2" =~ $number_re ]] || refuse_argument "$1" "a number of at least 0" "$2"
 }
