@@ -14,8 +14,6 @@ import time
 from campaign import arguments, bag, workspace
 from campaign.workspace import ROOT, fail, say
 
-ANSI = re.compile(r"\x1b\[[0-9;]*m")
-
 
 def parse(argv):
     p = arguments.Parser("capture", __doc__)
@@ -121,8 +119,7 @@ def capture(a, env, display, xvfb):
     if missing:
         # The cause when a node said it (a PNG that could not be written), else the end of the
         # log.
-        with open(log_path, errors="replace") as f:
-            lines = [ANSI.sub("", line.rstrip("\n")) for line in f]
+        lines = workspace.log_lines(log_path)
         fatal = [line for line in lines if "[FATAL]" in line][:3]
         print("\n".join(fatal or lines[-15:]), file=sys.stderr)
         return 1

@@ -10,6 +10,7 @@ import subprocess
 import threading
 import time
 
+from campaign.workspace import log_lines as workspace_log_lines
 from campaign.workspace import os_error, ros_env, write_file
 
 ATTEMPTS = 2  # a failed run is retried once, then named in the report
@@ -163,11 +164,7 @@ REFUSALS = re.compile(r"\[FATAL\].*|check_experiment: .*|RLException: .*|"
 
 def log_lines(out_dir):
     """The run's launch.log, line by line without colour codes ([] when there is none)."""
-    try:
-        with open(os.path.join(out_dir, "launch.log"), errors="replace") as f:
-            return [re.sub(r"\x1b\[[0-9;]*m", "", line) for line in f]
-    except OSError:
-        return []
+    return workspace_log_lines(os.path.join(out_dir, "launch.log"))
 
 
 def refusal(out_dir):

@@ -29,8 +29,6 @@ import time
 from campaign import arguments, bag, workspace
 from campaign.workspace import ROOT, fail, say
 
-ANSI = re.compile(r"\x1b\[[0-9;]*m")
-
 
 def parse(argv):
     p = arguments.Parser("replay", __doc__)
@@ -110,16 +108,8 @@ def _number(fields, column):
         return None
 
 
-def log_lines(path):
-    try:
-        with open(path, errors="replace") as f:
-            return [ANSI.sub("", line.rstrip("\n")) for line in f]
-    except OSError:
-        return []
-
-
 def log_end(path):
-    for line in log_lines(path)[-15:]:
+    for line in workspace.log_lines(path)[-15:]:
         print(line, file=sys.stderr)
 
 
@@ -271,7 +261,7 @@ def with_truth(a, env, frames):
     log = os.path.join(folder, "launch.log")
     rows = rows_of(os.path.join(folder, "frames.csv"))
     estimated = column_is_one(os.path.join(folder, "frames.csv"), 4)
-    lines = log_lines(log)
+    lines = workspace.log_lines(log)
     late = sum(1 for line in lines if "came after its frame was settled" in line)
     no_truth = sum(1 for line in lines if "no truth for frame" in line)
     subprocess.run([sys.executable, os.path.join(ROOT, "src/aar_eval/scripts/plot_errors.py"),

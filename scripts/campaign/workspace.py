@@ -1,6 +1,7 @@
 """The workspace a campaign runs in: its root, build, ROS environment, ports and provenance."""
 import datetime
 import os
+import re
 import subprocess
 import sys
 
@@ -114,3 +115,15 @@ def utc_now():
 
 def utc_stamp():
     return datetime.datetime.now(datetime.timezone.utc).strftime("%Y%m%d-%H%M%S")
+
+
+ANSI = re.compile(r"\x1b\[[0-9;]*m")
+
+
+def log_lines(path):
+    """A roslaunch log's lines without their colour codes ([] when it cannot be read)."""
+    try:
+        with open(path, errors="replace") as f:
+            return [ANSI.sub("", line.rstrip("\n")) for line in f]
+    except OSError:
+        return []
