@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "aar_registration/covariance_models.h"
+#include "aar_registration/range_check.h"
 
 namespace aar_registration {
 
@@ -27,6 +28,10 @@ void OutlineOptions::Validate() const {
     fail("image_start_quality must lie in [0, 1]");
   if (!(partial_below >= 0.0 && partial_below <= 1.0)) fail("partial_below must lie in [0, 1]");
   if (partial_confirm < 0) fail("partial_confirm must be >= 0");
+  if (!(partial_range_sigmas >= 0.0)) fail("partial_range_sigmas must be >= 0");
+  if (partial_range_sigmas > 0.0 && !(disparity_sigma > 0.0))
+    fail("partial_range_sigmas needs disparity_sigma (stereo's noise) > 0");
+  if (partial_range_min_points < 1) fail("partial_range_min_points must be at least 1");
   if (!(information_floor_position > 0.0) || !(information_floor_rotation > 0.0))
     fail("information_floor_position and information_floor_rotation must be > 0");
 }
@@ -203,7 +208,7 @@ RegistrarResult Registrar::Register(const std::vector<Eigen::Vector3d>& all_sens
     if (!out.valid && out.error.empty()) out.error = out.track.reason;
   }
   AssessIntegrity(out);
-  WithholdPartialStart(out);
+  WithholdPartialStart(*sensed, outline, out);
   out.registration_ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   return out;
@@ -264,15 +269,48 @@ void Registrar::AssessIntegrity(RegistrarResult& out) {
   if (out.valid) out.covariance = out.integrity.covariance;
 }
 
-void Registrar::WithholdPartialStart(RegistrarResult& out) {
+bool Registrar::ConfirmsPartialStart(const std::vector<Eigen::Vector3d>& sensed,
+                                     const OutlineFrame* frame, RegistrarResult& out) {
+  const OutlineOptions& o = options_.outline;
+  const bool accepted = out.track.outcome == TrackOutcome::kAccepted;
+  if (!(o.partial_range_sigmas > 0.0)) return accepted;
+  if (!frame || !aligner_) return false;  // nothing to check with: not a confirmation
+  RangeCheckOptions options;
+  options.sigmas = o.partial_range_sigmas;
+  options.disparity_sigma = o.disparity_sigma;
+  options.min_points = o.partial_range_min_points;
+  const double baseline = (frame->right_camera.T_tanker_optical.translation() -
+                           frame->left_camera.T_tanker_optical.translation())
+                              .norm();
+  const RangeCheck check =
+      CheckRange(sensed, aligner_->model(), frame->left_camera, baseline,
+                 frame->boom_parts_in_tanker, out.track.filtered.T_tanker_receiver, options);
+  if (check.enough && !check.agrees) {
+    out.track = tracker_.Drop("a partial start's range disagrees with stereo: " + check.ToString());
+    if (out.outline_ran) out.outline_note = out.track.reason;
+    out.valid = false;
+    out.error = out.track.reason;
+    return false;
+  }
+  return accepted && check.agrees;
+}
+
+void Registrar::WithholdPartialStart(const std::vector<Eigen::Vector3d>& sensed,
+                                     const OutlineFrame* frame, RegistrarResult& out) {
   if (partial_accepted_ < 0) return;
   if (!out.tracking || tracker_.state() != TrackState::kTracking) {
     partial_accepted_ = -1;  // lost: the next start decides again
     return;
   }
-  if (out.track.outcome == TrackOutcome::kAccepted)
+  const bool confirms = ConfirmsPartialStart(sensed, frame, out);
+  if (tracker_.state() != TrackState::kTracking) {
+    partial_accepted_ = -1;  // dropped by the range check
+    return;
+  }
+  if (confirms)
     ++partial_accepted_;
-  else if (out.track.outcome != TrackOutcome::kStarted)
+  else if (out.track.outcome != TrackOutcome::kStarted &&
+           out.track.outcome != TrackOutcome::kAccepted)
     partial_accepted_ = 0;  // the agreement must be unbroken
   if (partial_accepted_ >= options_.outline.partial_confirm) {
     partial_accepted_ = -1;

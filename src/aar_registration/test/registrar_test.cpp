@@ -396,6 +396,9 @@ TEST(Registrar, RefusesOptionsThatCannotWork) {
            [](OutlineOptions& o) { o.image_start_quality = -0.1; },
            [](OutlineOptions& o) { o.partial_below = 1.5; },
            [](OutlineOptions& o) { o.partial_confirm = -1; },
+           [](OutlineOptions& o) { o.partial_range_sigmas = -1.0; },
+           [](OutlineOptions& o) { o.partial_range_sigmas = 3.0; },  // disparity_sigma 0
+           [](OutlineOptions& o) { o.partial_range_min_points = 0; },
            [](OutlineOptions& o) { o.acquisition.min_visible = 1.5; },
            [](OutlineOptions& o) { o.acquisition.range_step = 0.9; }}) {
     options = {};

@@ -72,6 +72,7 @@ TEST(Config, EveryExperimentLoadsIntoEveryNode) {
       EXPECT_EQ(registration.registrar.outline.acquisition.min_visible, partial ? 0.3 : 0.6)
           << name;
       EXPECT_EQ(registration.registrar.outline.partial_below, partial ? 0.6 : 0.0) << name;
+      EXPECT_EQ(registration.registrar.outline.partial_range_sigmas, partial ? 3.0 : 0.0) << name;
       if (outline) {
         EXPECT_EQ(registration.registrar.outline.disparity_sigma, 0.25);
       } else {
@@ -703,14 +704,17 @@ TEST(Config, OutlineOffByDefaultBadValuesRefused) {
       {"outline_image_start_range_step", 1.0},
       {"outline_image_start_min_visible", 1.5},
       {"outline_image_start_partial_below", -0.1},
-      {"outline_image_start_partial_confirm", -1}};
+      {"outline_image_start_partial_confirm", -1},
+      {"outline_image_start_partial_range_sigmas", -1.0},
+      {"outline_image_start_partial_range_min_points", 0}};
   for (const auto& [key, value] : bad_values) {
     ros::NodeHandle bad("/registration_outline_bad_" + key);
     bad.setParam("track", true);
     bad.setParam("outline", true);
     if (key == "outline_max_poor_frames" || key == "outline_contour_points" ||
         key == "outline_mask_size" || key == "outline_start_candidates" ||
-        key == "outline_image_start_partial_confirm")
+        key == "outline_image_start_partial_confirm" ||
+        key == "outline_image_start_partial_range_min_points")
       bad.setParam(key, static_cast<int>(value));
     else
       bad.setParam(key, value);

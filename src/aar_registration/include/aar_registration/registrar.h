@@ -69,6 +69,13 @@ struct OutlineOptions {
   // unseen). partial_below 0: no start is partial.
   double partial_below = 0.0;
   int partial_confirm = 2;
+  // A partial start's range checked against stereo's points (RangeCheck) on every frame until it
+  // is confirmed: a frame counts towards partial_confirm only when the median depth of stereo's
+  // points on the receiver's image lies within partial_range_sigmas sigma_Z (disparity_sigma)
+  // of the receiver's depth; a frame where it lies outside drops the track. With fewer than
+  // partial_range_min_points such points the frame does not count. 0: off.
+  double partial_range_sigmas = 0.0;
+  int partial_range_min_points = 10;
   // The prior of an alignment from an ICP pose (a start, or a maneuver's registration).
   double start_sigma_position = 2.0;   // [m]
   double start_sigma_rotation = 0.05;  // [rad]
@@ -270,7 +277,14 @@ class Registrar {
   void AssessIntegrity(RegistrarResult& out);
   // Withholds the pose of a partial start's track until it is confirmed (OutlineOptions::
   // partial_confirm): out.valid false and why.
-  void WithholdPartialStart(RegistrarResult& out);
+  // With partial_range_sigmas, each frame's range is checked against `sensed` (stereo's points):
+  // a frame that disagrees drops the track.
+  void WithholdPartialStart(const std::vector<Eigen::Vector3d>& sensed, const OutlineFrame* frame,
+                            RegistrarResult& out);
+  // Whether this frame confirms a partial start: accepted and, with the range check, in range.
+  // Drops the track (out.track) when stereo's range disagrees.
+  bool ConfirmsPartialStart(const std::vector<Eigen::Vector3d>& sensed, const OutlineFrame* frame,
+                            RegistrarResult& out);
 
   RegistrarOptions options_;
   Icp icp_;

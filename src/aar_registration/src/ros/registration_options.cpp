@@ -120,6 +120,10 @@ OutlineOptions LoadOutlineOptions(aar_ros_common::ParamReader& params, OutlineOp
   outline.partial_below = params.Get("outline_image_start_partial_below", outline.partial_below);
   outline.partial_confirm =
       params.Get("outline_image_start_partial_confirm", outline.partial_confirm);
+  outline.partial_range_sigmas =
+      params.Get("outline_image_start_partial_range_sigmas", outline.partial_range_sigmas);
+  outline.partial_range_min_points =
+      params.Get("outline_image_start_partial_range_min_points", outline.partial_range_min_points);
   aar_alignment::AlignmentOptions& a = outline.alignment;
   a.contour_points = params.Get("outline_contour_points", a.contour_points);
   a.mask_size = params.Get("outline_mask_size", a.mask_size);
@@ -151,6 +155,13 @@ OutlineOptions LoadOutlineOptions(aar_ros_common::ParamReader& params, OutlineOp
   params.Check(outline.partial_below >= 0.0 && outline.partial_below <= 1.0,
                "outline_image_start_partial_below", "must lie in [0, 1]");
   params.Check(outline.partial_confirm >= 0, "outline_image_start_partial_confirm", "must be >= 0");
+  params.Check(outline.partial_range_sigmas >= 0.0, "outline_image_start_partial_range_sigmas",
+               "must be >= 0");
+  params.Check(outline.partial_range_sigmas == 0.0 || outline.disparity_sigma > 0.0,
+               "outline_image_start_partial_range_sigmas",
+               "needs outline_disparity_sigma (stereo's noise) > 0");
+  params.Check(outline.partial_range_min_points >= 1,
+               "outline_image_start_partial_range_min_points", "must be at least 1");
   params.Check(!outline.image_start || outline.enabled, "outline_image_start",
                "needs outline: true");
   params.Check(a.contour_points >= 8, "outline_contour_points", "must be >= 8");
