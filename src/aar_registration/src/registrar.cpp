@@ -270,7 +270,8 @@ void Registrar::AssessIntegrity(RegistrarResult& out) {
 }
 
 bool Registrar::ConfirmsPartialStart(const std::vector<Eigen::Vector3d>& sensed,
-                                     const OutlineFrame* frame, RegistrarResult& out) {
+                                     const OutlineFrame* frame, RegistrarResult& out,
+                                     std::string& range_note) {
   const OutlineOptions& o = options_.outline;
   const bool accepted = out.track.outcome == TrackOutcome::kAccepted;
   if (!(o.partial_range_sigmas > 0.0)) return accepted;
@@ -285,6 +286,7 @@ bool Registrar::ConfirmsPartialStart(const std::vector<Eigen::Vector3d>& sensed,
   const RangeCheck check =
       CheckRange(sensed, aligner_->model(), frame->left_camera, baseline,
                  frame->boom_parts_in_tanker, out.track.filtered.T_tanker_receiver, options);
+  range_note = check.ToString();
   if (check.enough && !check.agrees) {
     out.track = tracker_.Drop("a partial start's range disagrees with stereo: " + check.ToString());
     if (out.outline_ran) out.outline_note = out.track.reason;
@@ -292,7 +294,7 @@ bool Registrar::ConfirmsPartialStart(const std::vector<Eigen::Vector3d>& sensed,
     out.error = out.track.reason;
     return false;
   }
-  return accepted && check.agrees;
+  return accepted;  // in range, or stereo has too few points to say: the frames decide
 }
 
 void Registrar::WithholdPartialStart(const std::vector<Eigen::Vector3d>& sensed,
@@ -302,7 +304,8 @@ void Registrar::WithholdPartialStart(const std::vector<Eigen::Vector3d>& sensed,
     partial_accepted_ = -1;  // lost: the next start decides again
     return;
   }
-  const bool confirms = ConfirmsPartialStart(sensed, frame, out);
+  std::string range_note;
+  const bool confirms = ConfirmsPartialStart(sensed, frame, out, range_note);
   if (tracker_.state() != TrackState::kTracking) {
     partial_accepted_ = -1;  // dropped by the range check
     return;
@@ -321,6 +324,7 @@ void Registrar::WithholdPartialStart(const std::vector<Eigen::Vector3d>& sensed,
   s << "a start from a partial view (" << 100.0 * partial_share_
     << " % of the outline seen), not yet confirmed: " << partial_accepted_ << " of "
     << options_.outline.partial_confirm << " frames accepted";
+  if (!range_note.empty()) s << "; " << range_note;
   out.valid = false;
   out.error = s.str();
 }

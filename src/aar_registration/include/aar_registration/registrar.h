@@ -70,10 +70,11 @@ struct OutlineOptions {
   double partial_below = 0.0;
   int partial_confirm = 2;
   // A partial start's range checked against stereo's points (RangeCheck) on every frame until it
-  // is confirmed: a frame counts towards partial_confirm only when the median depth of stereo's
-  // points on the receiver's image lies within partial_range_sigmas sigma_Z (disparity_sigma)
-  // of the receiver's depth; a frame where it lies outside drops the track. With fewer than
-  // partial_range_min_points such points the frame does not count. 0: off.
+  // is confirmed: a frame where the median depth of stereo's points on the receiver's image lies
+  // outside partial_range_sigmas sigma_Z (disparity_sigma) of the receiver's depth drops the
+  // track. With fewer than partial_range_min_points such points stereo cannot say (at 150 m,
+  // where the boom hides most of the receiver from one camera, it gives none): the frame counts
+  // as without the check. 0: off.
   double partial_range_sigmas = 0.0;
   int partial_range_min_points = 10;
   // The prior of an alignment from an ICP pose (a start, or a maneuver's registration).
@@ -282,9 +283,10 @@ class Registrar {
   void WithholdPartialStart(const std::vector<Eigen::Vector3d>& sensed, const OutlineFrame* frame,
                             RegistrarResult& out);
   // Whether this frame confirms a partial start: accepted and, with the range check, in range.
-  // Drops the track (out.track) when stereo's range disagrees.
+  // Drops the track (out.track) when stereo's range disagrees; `range_note` gets the check's
+  // figures (RangeCheck::ToString).
   bool ConfirmsPartialStart(const std::vector<Eigen::Vector3d>& sensed, const OutlineFrame* frame,
-                            RegistrarResult& out);
+                            RegistrarResult& out, std::string& range_note);
 
   RegistrarOptions options_;
   Icp icp_;
