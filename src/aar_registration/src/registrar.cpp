@@ -32,6 +32,8 @@ void OutlineOptions::Validate() const {
   if (partial_range_sigmas > 0.0 && !(disparity_sigma > 0.0))
     fail("partial_range_sigmas needs disparity_sigma (stereo's noise) > 0");
   if (partial_range_min_points < 1) fail("partial_range_min_points must be at least 1");
+  if (range_all_starts && !(partial_range_sigmas > 0.0))
+    fail("range_all_starts needs partial_range_sigmas > 0");
   if (!(information_floor_position > 0.0) || !(information_floor_rotation > 0.0))
     fail("information_floor_position and information_floor_rotation must be > 0");
 }
@@ -208,7 +210,7 @@ RegistrarResult Registrar::Register(const std::vector<Eigen::Vector3d>& all_sens
     if (!out.valid && out.error.empty()) out.error = out.track.reason;
   }
   AssessIntegrity(out);
-  WithholdPartialStart(*sensed, outline, out);
+  WatchNewTrack(*sensed, outline, out);
   out.registration_ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   return out;
@@ -297,32 +299,40 @@ bool Registrar::ConfirmsPartialStart(const std::vector<Eigen::Vector3d>& sensed,
   return accepted;  // in range, or stereo has too few points to say: the frames decide
 }
 
-void Registrar::WithholdPartialStart(const std::vector<Eigen::Vector3d>& sensed,
-                                     const OutlineFrame* frame, RegistrarResult& out) {
-  if (partial_accepted_ < 0) return;
+void Registrar::WatchNewTrack(bool partial) {
+  const OutlineOptions& o = options_.outline;
+  watch_.partial = partial && o.partial_confirm > 0;
+  watch_.range = o.partial_range_sigmas > 0.0 && (partial || o.range_all_starts);
+  watch_.accepted = watch_.partial || watch_.range ? 0 : -1;
+}
+
+void Registrar::WatchNewTrack(const std::vector<Eigen::Vector3d>& sensed, const OutlineFrame* frame,
+                              RegistrarResult& out) {
+  if (watch_.accepted < 0) return;
   if (!out.tracking || tracker_.state() != TrackState::kTracking) {
-    partial_accepted_ = -1;  // lost: the next start decides again
+    watch_.accepted = -1;  // lost: the next start decides again
     return;
   }
   std::string range_note;
-  const bool confirms = ConfirmsPartialStart(sensed, frame, out, range_note);
+  const bool confirms = watch_.range ? ConfirmsPartialStart(sensed, frame, out, range_note)
+                                     : out.track.outcome == TrackOutcome::kAccepted;
   if (tracker_.state() != TrackState::kTracking) {
-    partial_accepted_ = -1;  // dropped by the range check
+    watch_.accepted = -1;  // dropped by the range check
     return;
   }
   if (confirms)
-    ++partial_accepted_;
+    ++watch_.accepted;
   else if (out.track.outcome != TrackOutcome::kStarted &&
            out.track.outcome != TrackOutcome::kAccepted)
-    partial_accepted_ = 0;  // the agreement must be unbroken
-  if (partial_accepted_ >= options_.outline.partial_confirm) {
-    partial_accepted_ = -1;
+    watch_.accepted = 0;  // the agreement must be unbroken
+  if (watch_.accepted >= std::max(1, options_.outline.partial_confirm)) {
+    watch_.accepted = -1;
     return;
   }
-  if (!out.valid) return;
+  if (!watch_.partial || !out.valid) return;
   std::ostringstream s;
   s << "a start from a partial view (" << 100.0 * partial_share_
-    << " % of the outline seen), not yet confirmed: " << partial_accepted_ << " of "
+    << " % of the outline seen), not yet confirmed: " << watch_.accepted << " of "
     << options_.outline.partial_confirm << " frames accepted";
   if (!range_note.empty()) s << "; " << range_note;
   out.valid = false;
@@ -382,7 +392,7 @@ std::vector<Eigen::Vector3d> Outside(const std::vector<Eigen::Vector3d>& points,
 
 void Registrar::Start(double stamp_s, const std::vector<Eigen::Vector3d>& sensed,
                       const OutlineFrame& frame, RegistrarResult& out) {
-  partial_accepted_ = -1;  // a start from stereo's seeds is not a partial one
+  watch_.accepted = -1;
   const double radius = aar_geometry::HalfDiagonal(reference_points_);
   Eigen::Vector3d centroid = Eigen::Vector3d::Zero();  // of the reference, receiver frame
   for (const Eigen::Vector3d& p : reference_points_) centroid += p;
@@ -413,6 +423,7 @@ void Registrar::Start(double stamp_s, const std::vector<Eigen::Vector3d>& sensed
         out.track = tracker_.Update(stamp_s, StartPose(a.T_tanker_receiver), a.covariance);
         out.outline_fused = true;
         out.error.clear();
+        WatchNewTrack(false);  // a start from stereo's seeds is not a partial one
         if (k > 0) {
           std::string before = refused.str();
           before.resize(before.size() - 2);
@@ -438,6 +449,7 @@ void Registrar::Start(double stamp_s, const std::vector<Eigen::Vector3d>& sensed
   }
   out.outline_note = "start refused: " + stereo;
   out.track = tracker_.Reject(stamp_s, out.outline_note);
+  out.error = out.outline_note;  // the start's reasons hold ICP's (seed 1's), and more
 }
 
 bool Registrar::ImageStart(double stamp_s, const OutlineFrame& frame, RegistrarResult& out,
@@ -468,7 +480,7 @@ bool Registrar::ImageStart(double stamp_s, const OutlineFrame& frame, RegistrarR
   out.error.clear();
   partial_share_ = aar_alignment::SeenShare(options_.outline.acquisition, a.alignment);
   const bool partial = partial_share_ < options_.outline.partial_below;
-  partial_accepted_ = partial && options_.outline.partial_confirm > 0 ? 0 : -1;
+  WatchNewTrack(partial);
   std::ostringstream s;
   s << "started from the images alone (" << Quality(a.alignment) << ", searched from " << a.range_m
     << " m)";

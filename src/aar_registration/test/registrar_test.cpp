@@ -399,6 +399,7 @@ TEST(Registrar, RefusesOptionsThatCannotWork) {
            [](OutlineOptions& o) { o.partial_range_sigmas = -1.0; },
            [](OutlineOptions& o) { o.partial_range_sigmas = 3.0; },  // disparity_sigma 0
            [](OutlineOptions& o) { o.partial_range_min_points = 0; },
+           [](OutlineOptions& o) { o.range_all_starts = true; },  // without the range check
            [](OutlineOptions& o) { o.acquisition.min_visible = 1.5; },
            [](OutlineOptions& o) { o.acquisition.range_step = 0.9; }}) {
     options = {};

@@ -229,6 +229,7 @@ TEST(OutlineAlignment, AStartWhoseOutlineDoesNotFitIsRefused) {
       EXPECT_FALSE(r.valid);
       EXPECT_NE(r.track.outcome, aar_registration::TrackOutcome::kStarted);
       EXPECT_NE(r.outline_note.find("start refused"), std::string::npos) << r.outline_note;
+      EXPECT_EQ(r.error, r.outline_note);  // the frame's miss names the refused start
     }
   }
 }

@@ -73,6 +73,7 @@ TEST(Config, EveryExperimentLoadsIntoEveryNode) {
           << name;
       EXPECT_EQ(registration.registrar.outline.partial_below, partial ? 0.6 : 0.0) << name;
       EXPECT_EQ(registration.registrar.outline.partial_range_sigmas, partial ? 3.0 : 0.0) << name;
+      EXPECT_EQ(registration.registrar.outline.range_all_starts, partial) << name;
       if (outline) {
         EXPECT_EQ(registration.registrar.outline.disparity_sigma, 0.25);
       } else {
@@ -734,6 +735,13 @@ TEST(Config, OutlineOffByDefaultBadValuesRefused) {
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("needs track: true"), std::string::npos) << e.what();
   }
+  // The range check on every start without the range check itself.
+  ros::NodeHandle all_starts("/registration_outline_range_all");
+  all_starts.setParam("track", true);
+  all_starts.setParam("outline", true);
+  all_starts.setParam("outline_start_range_all", true);
+  ExpectRefusedByName(all_starts, "outline_start_range_all",
+                      [&] { aar_registration::LoadRegistrationNodeOptions(all_starts); });
   // A misspelt `trak: true` is named as an unknown key, not as the outline needing tracking.
   ros::NodeHandle misspelt("/registration_outline_trak");
   misspelt.setParam("outline", true);

@@ -77,6 +77,9 @@ struct OutlineOptions {
   // as without the check. 0: off.
   double partial_range_sigmas = 0.0;
   int partial_range_min_points = 10;
+  // The same range check on every new track until partial_confirm frames are accepted, whether
+  // it started from stereo's seeds or the whole outline; its poses are published meanwhile.
+  bool range_all_starts = false;
   // The prior of an alignment from an ICP pose (a start, or a maneuver's registration).
   double start_sigma_position = 2.0;   // [m]
   double start_sigma_rotation = 0.05;  // [rad]
@@ -276,15 +279,15 @@ class Registrar {
   // The frame's integrity from its pose, covariance and what the tracker did; an unconfirmed
   // track's covariance gains the start's (StartCovariance: how far off an acquisition can be).
   void AssessIntegrity(RegistrarResult& out);
-  // Withholds the pose of a partial start's track until it is confirmed (OutlineOptions::
-  // partial_confirm): out.valid false and why.
-  // With partial_range_sigmas, each frame's range is checked against `sensed` (stereo's points):
-  // a frame that disagrees drops the track.
-  void WithholdPartialStart(const std::vector<Eigen::Vector3d>& sensed, const OutlineFrame* frame,
-                            RegistrarResult& out);
-  // Whether this frame confirms a partial start: accepted and, with the range check, in range.
-  // Drops the track (out.track) when stereo's range disagrees; `range_note` gets the check's
-  // figures (RangeCheck::ToString).
+  // A new track under watch (a partial start, or any start with range_all_starts): its range
+  // checked against stereo's points (partial_range_sigmas) and a partial start's poses withheld
+  // (out.valid false and why) until partial_confirm frames in a row are accepted.
+  void WatchNewTrack(bool partial);  // at a start: what to watch
+  void WatchNewTrack(const std::vector<Eigen::Vector3d>& sensed, const OutlineFrame* frame,
+                     RegistrarResult& out);  // each frame
+  // Whether this frame confirms a watched start: accepted, and not out of range (stereo's points
+  // agree, or are too few to say). Drops the track (out.track) when stereo's range disagrees;
+  // `range_note` gets the check's figures (RangeCheck::ToString).
   bool ConfirmsPartialStart(const std::vector<Eigen::Vector3d>& sensed, const OutlineFrame* frame,
                             RegistrarResult& out, std::string& range_note);
 
@@ -292,9 +295,11 @@ class Registrar {
   Icp icp_;
   std::unique_ptr<aar_alignment::OutlineAligner> aligner_;
   int poor_outline_frames_ = 0;
-  // Frames accepted in a row since a partial start from the images (OutlineOptions::
-  // partial_below); -1: the track is not a partial start's, or it is confirmed.
-  int partial_accepted_ = -1;
+  struct Watch {
+    int accepted = -1;     // frames accepted in a row since the start; -1: no track under watch
+    bool partial = false;  // a partial start: poses withheld until confirmed
+    bool range = false;    // its range checked against stereo's points
+  } watch_;
   double partial_share_ = 0.0;                     // the share of its outline the partial start saw
   std::vector<Eigen::Vector3d> reference_points_;  // receiver frame
   std::vector<Eigen::Vector3d> reference_normals_;                // SetReference's, if any

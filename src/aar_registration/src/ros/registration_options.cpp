@@ -124,6 +124,7 @@ OutlineOptions LoadOutlineOptions(aar_ros_common::ParamReader& params, OutlineOp
       params.Get("outline_image_start_partial_range_sigmas", outline.partial_range_sigmas);
   outline.partial_range_min_points =
       params.Get("outline_image_start_partial_range_min_points", outline.partial_range_min_points);
+  outline.range_all_starts = params.Get("outline_start_range_all", outline.range_all_starts);
   aar_alignment::AlignmentOptions& a = outline.alignment;
   a.contour_points = params.Get("outline_contour_points", a.contour_points);
   a.mask_size = params.Get("outline_mask_size", a.mask_size);
@@ -160,6 +161,8 @@ OutlineOptions LoadOutlineOptions(aar_ros_common::ParamReader& params, OutlineOp
   params.Check(outline.partial_range_sigmas == 0.0 || outline.disparity_sigma > 0.0,
                "outline_image_start_partial_range_sigmas",
                "needs outline_disparity_sigma (stereo's noise) > 0");
+  params.Check(!outline.range_all_starts || outline.partial_range_sigmas > 0.0,
+               "outline_start_range_all", "needs outline_image_start_partial_range_sigmas > 0");
   params.Check(outline.partial_range_min_points >= 1,
                "outline_image_start_partial_range_min_points", "must be at least 1");
   params.Check(!outline.image_start || outline.enabled, "outline_image_start",
