@@ -174,7 +174,8 @@ TEST(OutlineGraph, APartialViewStartsAt150m) {
 // Suite approach 7003 with the RQ-4, 40 frames from 104.6 m: partial starts fit its long, slender
 // wings 30 to 50 m too far, and their own outlines go on agreeing with them. flight_partial checks
 // a partial start's range against stereo's points until it is confirmed and drops those starts;
-// with the check off (outline_image_start_partial_range_sigmas 0) one is confirmed and published.
+// with the check off (outline_image_start_partial_range_sigmas 0, and so outline_start_range_all
+// false) one is confirmed and published.
 PipelineRunStats RunRq4PartialStarts(const std::string& tag, double range_sigmas) {
   const std::string receiver = aar_testing::ModelsDir() + "/rq4.yaml";
   const std::string path = WriteSuiteApproach(7003, receiver);
@@ -184,7 +185,8 @@ PipelineRunStats RunRq4PartialStarts(const std::string& tag, double range_sigmas
   {
     std::ofstream yaml(experiment);
     yaml << "include: flight_partial\nregistration:\n  outline_image_start_partial_range_sigmas: "
-         << range_sigmas << "\n";
+         << range_sigmas
+         << "\n  outline_start_range_all: " << (range_sigmas > 0.0 ? "true" : "false") << "\n";
   }
   PipelineRunStats stats;
   stats.run = aar_testing::RunPipeline(tag,
