@@ -1,6 +1,7 @@
-"""Command lines of scripts/run (one path: the main job), scripts/run --suite (seeded
-approaches) and scripts/realism (a suite per world), and the Slurm jobs' own (task, merge);
-the other scripts that are wrappers (SCRIPTS) handed to their modules. Arguments are checked before anything is set up, built or flown."""
+"""Command lines of scripts/run, the one front door of campaigns: one path (the main job),
+--suite N (seeded approaches) or --worlds ideal,NAME,... (a suite per world); and the Slurm jobs'
+own (task, merge); the other scripts that are wrappers (SCRIPTS) handed to their modules.
+Arguments are checked before anything is set up, built or flown."""
 import argparse
 import importlib
 import os
@@ -51,11 +52,13 @@ def engine_arguments(p):
 def parser(kind):
     doc = plans.USAGE[kind]
     p = Parser(prog={"run": "scripts/run", "suite": "scripts/run --suite",
-                     "realism": "scripts/realism"}[kind], description=doc,
+                     "realism": "scripts/run --worlds"}[kind], description=doc,
                formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--experiments", default=None, help=f"default {DEFAULTS[kind]}")
-    p.add_argument("--sim-config", default=None, help="YAML loaded over config/sim.yaml "
-                   "(a camera mount, config/mounts/NAME.yaml, or a world, config/realism/)")
+    # Refused with --worlds (plans.check): each world is its own sim config.
+    p.add_argument("--sim-config", default=None, help=argparse.SUPPRESS if kind == "realism" else
+                   "YAML loaded over config/sim.yaml (a camera mount, config/mounts/NAME.yaml, "
+                   "or a world, config/realism/)")
     p.add_argument("--out", default=None, help="the campaign's folder (default: results/...)")
     if kind == "run":
         p.add_argument("--receiver", default=None, help="c12 (default) or rq4, or a "
@@ -77,8 +80,9 @@ def parser(kind):
         p.add_argument("--noise", default=None, help="[grey levels] sensor noise sigma "
                        "(default 2.0)")
     if kind == "realism":
-        p.add_argument("--worlds", default=None, help="ideal,NAME,... (default: ideal, every "
-                       "preset in config/realism/, realistic last)")
+        p.add_argument("--worlds", default=None, metavar="ideal,NAME,...|all", help="ideal "
+                       "(config/sim.yaml alone) first, then each NAME, config/realism/NAME.yaml "
+                       "over it; all: ideal and every preset there, realistic last")
     engine_arguments(p)
     return p
 
@@ -110,6 +114,11 @@ def main(argv):
             hint = f"; nothing was flown: make room, remove {out} and run again"
         say(f"{os_error(e)}{hint if out else ''}", error=True)
         return 1
+
+
+def flag_given(argv, flag):
+    """`flag` is on the command line (--flag VALUE or --flag=VALUE): it picks the campaign."""
+    return any(a == flag or a.startswith(flag + "=") for a in argv)
 
 
 def show_experiment(argv):
@@ -145,7 +154,9 @@ def _main(argv):
     kind, argv = argv[0], argv[1:]
     if kind == "run" and argv and argv[0] == "--show-experiment":
         return show_experiment(argv[1:])
-    if kind == "run" and "--suite" in argv:
+    if kind == "run" and flag_given(argv, "--worlds"):  # a suite per world (default --suite 4)
+        kind = "realism"
+    elif kind == "run" and flag_given(argv, "--suite"):
         kind = "suite"
     workspace.PROG = kind
     a = parser(kind).parse_args(argv)

@@ -14,16 +14,27 @@ from campaign.workspace import ROOT, Refused, absolute, tool, utc_stamp
 USAGE = {
     "run": "The main job: each experiment flown along one path in lockstep; writes\n"
            "DIR/report.md, per-frame CSVs, plots and the configuration used (default DIR:\n"
-           "results/<UTC time>). With --suite N: N seeded approaches (scripts/run --suite N -h).\n"
-           "scripts/run --show-experiment NAME prints an experiment's settings, each with the\n"
-           "file that gives it.",
+           "results/<UTC time>). scripts/run is the front door of every campaign:\n"
+           "  scripts/run ...                   one path (the options below)\n"
+           "  scripts/run --suite N ...         N seeded approaches instead; DIR/suite.md\n"
+           "                                    (scripts/run --suite N -h)\n"
+           "  scripts/run --worlds ideal,NAME,...\n"
+           "                                    the same seeded suite (--suite N, default 4) in\n"
+           "                                    the ideal world and in each world NAME\n"
+           "                                    (config/realism/NAME.yaml); DIR/worlds.md, each\n"
+           "                                    world's cost against ideal (--worlds all: every\n"
+           "                                    preset; scripts/run --worlds all -h)\n"
+           "  scripts/run --resume DIR          what campaign DIR misses, of any of the three\n"
+           "  scripts/run --show-experiment NAME\n"
+           "                                    an experiment's settings, each with its file",
     "suite": "N seeded approaches (aar_sim's generate_approach, seed S*1000+i: start offset,\n"
              "closure, wander and boom motion vary), each experiment on each, with sensor noise\n"
              "seeded per approach; writes DIR/suite.md (means over approaches with 95 %\n"
              "intervals, paired improvements) and each run's frames.csv under\n"
              "DIR/approaches/NN/.",
-    "realism": "The same seeded suite flown in each world: ideal (config/sim.yaml alone) and each\n"
-               "NAME, config/realism/NAME.yaml over it; writes DIR/<world>/suite.md and\n"
+    "realism": "The same seeded suite (--suite N, default 4) flown in each world of --worlds:\n"
+               "ideal (config/sim.yaml alone) and each NAME, config/realism/NAME.yaml over it\n"
+               "(--worlds all: ideal and every preset); writes DIR/<world>/suite.md and\n"
                "DIR/worlds.md (each world's cost against the ideal one; docs/realism/README.md).",
 }
 DEFAULT_EXPERIMENTS = {
@@ -135,13 +146,13 @@ def _check_suite(a, f):
 
 def _check_worlds(a, f):
     presets = _names("config/realism")
-    names = (a.worlds or ",".join(["ideal"] + [p for p in presets if p != "realistic"] +
-                                  ["realistic"])).split(",")
+    every = ["ideal"] + [p for p in presets if p != "realistic"] + ["realistic"]
+    names = every if a.worlds in (None, "all") else a.worlds.split(",")
     if names[0] != "ideal":
         raise Refused(f"--worlds must start with ideal, the world every cost is against (got "
                       f"'{names[0]}')")
     if len(names) < 2:
-        raise Refused("--worlds needs ideal and at least one preset")
+        raise Refused("--worlds needs ideal and at least one preset (all: every one)")
     for w in names[1:]:
         if w not in presets:
             raise Refused(f"no world '{w}': config/realism/{w}.yaml does not exist")
@@ -157,6 +168,10 @@ def _match(value, pattern, flag, what, low=None):
 def check(kind, a):
     """Every argument checked; returns what create() needs."""
     f = types.SimpleNamespace(kind=kind, command="")
+    if kind == "realism" and a.sim_config is not None:
+        raise Refused("--sim-config: with --worlds each world is its own (ideal, or "
+                      "config/realism/NAME.yaml over config/sim.yaml); a suite in one world of "
+                      "your own is scripts/run --suite N --sim-config FILE")
     f.experiments = _experiments(a.experiments, kind)
     f.sim_config = _file(a.sim_config, a.caller, "--sim-config") if a.sim_config else ""
     if kind == "run":
@@ -164,8 +179,6 @@ def check(kind, a):
     else:
         _check_suite(a, f)
     if kind == "realism":
-        if f.sim_config:
-            raise Refused("--sim-config: scripts/realism's worlds are its --worlds")
         _check_worlds(a, f)
     f.jobs = a.jobs
     return f
@@ -222,7 +235,7 @@ def _create_suites(f):
                f"{','.join(f.experiments)} --rate {f.rate:g} --noise {f.noise}"
                f"{' --sim-config ' + f.sim_config if f.sim_config else ''} --out {f.out}")
     if f.kind == "realism":
-        command = (f"scripts/realism --suite {f.suite} --seed {f.seed}{receiver} --experiments "
+        command = (f"scripts/run --suite {f.suite} --seed {f.seed}{receiver} --experiments "
                    f"{','.join(f.experiments)} --worlds {','.join(worlds)} --rate {f.rate:g} "
                    f"--noise {f.noise} --out {f.out}")
     runs = []

@@ -19,9 +19,9 @@ continuations), or an inline `span`, which may run over lines of its paragraph; 
   followed straight by `--flag [VALUE]` pairs. A script's flags are what its source defines:
   add_argument's, `== "--flag"` and `"--flag" in` in Python, case labels (`--flag)`) and
   `[ "$1" = --flag ]` in bash; with the sources of what it execs or imports from scripts/
-  (scripts/run, realism and suite: the campaign driver, scripts/campaign/*.py, all its modes'
-  flags together). Only a script whose sources have an argparse parser or a `case "$1"` is
-  checked (scripts/build passes its arguments on to catkin); -h and --help are every script's.
+  (scripts/run: the campaign driver, scripts/campaign/*.py, all its modes' flags together).
+  Only a script whose sources have an argparse parser or a `case "$1"` is checked
+  (scripts/build passes its arguments on to catkin); -h and --help are every script's.
 - An experiment, config/experiments/NAME.yaml: each name (comma-separated) after --experiments,
   --experiment, --configs (bench-realtime's), --show-experiment (`=` or a space) and
   experiment:=, in code or prose; each `name` in backticks straight after the word experiment

@@ -52,7 +52,8 @@ TEST(Worlds, ErrorsCostsCoverageAndMissingRuns) {
   Write(sun, "01", "dynamic",
         {Frame(1.0, 100.0, 1.0), Frame(2.0, 35.0, 0.1), Frame(3.0, 34.0, 0.1)});
   std::filesystem::create_directories(ideal);
-  std::ofstream(ideal + "/run.txt") << "command: scripts/suite --suite 2\n";
+  std::ofstream(ideal + "/run.txt")
+      << "command: scripts/run --suite 2 --worlds ideal,turbulence,sun\n";
 
   WorldsReportOptions options;
   options.path = root + "/worlds.md";
@@ -62,7 +63,9 @@ TEST(Worlds, ErrorsCostsCoverageAndMissingRuns) {
   EXPECT_EQ(r.missing, (std::vector<std::string>{"sun/02/dynamic"}));
   const std::string report = Read(r.path);
   EXPECT_NE(report.find("**INCOMPLETE:** missing: sun/02/dynamic"), std::string::npos) << report;
-  EXPECT_NE(report.find("command: scripts/suite --suite 2"), std::string::npos) << report;
+  EXPECT_NE(report.find("command: scripts/run --suite 2 --worlds ideal,turbulence,sun"),
+            std::string::npos)
+      << report;
   EXPECT_NE(report.find("(no run.txt)"), std::string::npos) << report;
   const std::string region_c = report.substr(report.find("## Region C"));
   // Ideal: position 0.5 and 1.0 m -> mean 0.750, +/- t(0.975, 1) x 0.25 = 3.177; attitude 0.1

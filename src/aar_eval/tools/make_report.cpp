@@ -4,7 +4,7 @@
 // With --suite: DIR/suite.md from DIR/approaches/*/<experiment>/frames.csv (aar_eval::
 // WriteSuiteReport): means over approaches with 95 % intervals, paired improvements.
 // With --worlds: OUT from the suite DIRs of several worlds (aar_eval::WriteWorldsReport): each
-// realism effect's cost against the first world (scripts/realism).
+// realism effect's cost against the first world (scripts/run --worlds).
 // --protection-level-scale F (report and suite): the integrity section's protection levels
 // multiplied by F before they are compared, to check that its counts can fail; the report says so.
 //   make_report [--protection-level-scale F] DIR EXPERIMENT[,EXPERIMENT...] [BASELINE]

@@ -1,4 +1,4 @@
-// The campaign driver (scripts/campaign/, behind scripts/run, scripts/suite and scripts/realism):
+// The campaign driver (scripts/campaign/, behind scripts/run: one path, --suite, --worlds):
 // a suite through a real Slurm (munged, slurmctld and slurmd started on this machine) gives the
 // local engine's suite.md to the last digit; a Slurm task cancelled mid-run is named and then
 // resumed; an interrupted local campaign says how to resume and resumes without flying again

@@ -12,8 +12,8 @@
 namespace {
 
 aar_testing::CommandResult Suite(const std::string& args) {
-  return aar_testing::RunCommand("/usr/bin/python3 " + aar_testing::WorkspaceRoot() +
-                                 "/scripts/suite " + args + " --out /tmp/aar_suite_script_test");
+  return aar_testing::RunCommand(aar_testing::WorkspaceRoot() + "/scripts/run --no-build " + args +
+                                 " --out /tmp/aar_suite_script_test");
 }
 
 TEST(SuiteScript, BadArgumentsAreNamedAndRefused) {
@@ -36,6 +36,7 @@ TEST(SuiteScript, BadArgumentsAreNamedAndRefused) {
       {"--suite 2 --receiver nonesuch", "--receiver: no receiver 'nonesuch'"},
       {"--suite 2 --flight-path /tmp/any.csv",
        "--flight-path: a suite flies the approaches it generates"},
+      {"--suite=0", "suite: --suite takes a number of approaches of at least 1, not '0'"},
   };
   for (const auto& c : cases) {
     const auto r = Suite(c.args);
@@ -177,29 +178,76 @@ TEST(RunScript, AnOutThatHoldsOtherFilesIsRefusedAndKept) {
   aar_testing::RunCommand("rm -rf " + out);
 }
 
-// scripts/realism: worlds that are not presets, a first world other than ideal, and the suite's
-// own bad arguments are named and refused (exit 2) before any run.
-TEST(RealismScript, BadArgumentsAreNamedAndRefused) {
+// scripts/run --worlds (a suite per world): worlds that are not presets, a first world other than
+// ideal, a --sim-config (each world is its own), and the suite's own bad arguments are named and
+// refused (exit 2) before any run.
+TEST(WorldsScript, BadArgumentsAreNamedAndRefused) {
   const struct {
     std::string args, needle;
   } cases[] = {
-      {"--worlds turbulence", "--worlds must start with ideal"},
+      {"--worlds turbulence", "realism: --worlds must start with ideal"},
+      {"--worlds=turbulence", "realism: --worlds must start with ideal"},
       {"--worlds ideal", "--worlds needs ideal and at least one preset"},
       {"--worlds ideal,nope", "no world 'nope': config/realism/nope.yaml does not exist"},
+      {"--worlds ideal,all", "no world 'all': config/realism/all.yaml does not exist"},
       {"--suite 0 --worlds ideal,turbulence",
        "--suite takes a number of approaches of at least 1, not '0'"},
       {"--experiments naive,nonsense --worlds ideal,turbulence",
        "no experiment 'nonsense' in config/experiments/"},
-      {"--bogus", "unrecognized arguments: --bogus"},
-      {"--out", "argument --out: expected one argument"},
+      {"--worlds ideal,sun --sim-config config/realism/sun.yaml",
+       "--sim-config: with --worlds each world is its own"},
+      {"--worlds all --flight-path /tmp/any.csv",
+       "--flight-path: a suite flies the approaches it generates"},
+      {"--worlds all --bogus", "unrecognized arguments: --bogus"},
+      {"--worlds all --out", "argument --out: expected one argument"},
   };
   for (const auto& c : cases) {
+    const bool no_out = c.args.size() >= 5 && c.args.compare(c.args.size() - 5, 5, "--out") == 0;
     const auto r =
-        aar_testing::RunCommand(aar_testing::WorkspaceRoot() + "/scripts/realism --no-build " +
-                                c.args + (c.args == "--out" ? "" : " --out /tmp/aar_realism_test"));
+        aar_testing::RunCommand(aar_testing::WorkspaceRoot() + "/scripts/run --no-build " + c.args +
+                                (no_out ? "" : " --out /tmp/aar_worlds_script_test"));
     EXPECT_EQ(r.status, 2) << c.args << ": " << r.output;
     EXPECT_NE(r.output.find(c.needle), std::string::npos) << c.args << ": " << r.output;
   }
+}
+
+// The worlds a campaign of scripts/run --worlds flies: as given, or with `all` ideal and every
+// preset of config/realism/, realistic last; each world's folder records the command that
+// reproduces the campaign (scripts/run --worlds, which worlds.md prints) and its world.
+TEST(WorldsScript, TheWorldsAndTheCommandAreRecorded) {
+  const std::string root = aar_testing::WorkspaceRoot();
+  const std::string check =
+      "cd " + root +
+      " && /usr/bin/python3 -c 'import sys; sys.path.insert(0, \"scripts\"); from campaign "
+      "import cli, plans; f = plans.check(\"realism\", cli.parser(\"realism\").parse_args("
+      "sys.argv[1:])); print(\",\".join(f.worlds), f.suite)' --out /tmp/aar_worlds_script_test ";
+  auto r = aar_testing::RunCommand(check + "--worlds all");
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_EQ(r.output,
+            "ideal,all_but_background,background,propellers,sensor,sun,turbulence,realistic 4\n");
+  r = aar_testing::RunCommand(check + "--worlds ideal,sun --suite 2");
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_EQ(r.output, "ideal,sun 2\n");
+
+  const std::string out = "/tmp/aar_worlds_script_created";
+  r = aar_testing::RunCommand(
+      "rm -rf " + out + " && cd " + root +
+      " && /usr/bin/python3 -c 'import sys; sys.path.insert(0, \"scripts\"); from campaign "
+      "import cli, plans; plans.create(plans.check(\"realism\", cli.parser(\"realism\")."
+      "parse_args(sys.argv[1:])))' --suite 1 --experiments naive --worlds ideal,sun --out " +
+      out);
+  ASSERT_EQ(r.status, 0) << r.output;
+  const std::string command =
+      "command: scripts/run --suite 1 --seed 1 --experiments naive "
+      "--worlds ideal,sun --rate 10 --noise 2.0 --out " +
+      out + "\n";
+  for (const std::string world : {"ideal", "sun"}) {
+    const std::string provenance = Read(out + "/" + world + "/run.txt");
+    EXPECT_NE(provenance.find(command), std::string::npos) << provenance;
+    EXPECT_NE(provenance.find("world: " + world + "\n"), std::string::npos) << provenance;
+  }
+  EXPECT_NE(Read(out + "/campaign.json").find("\"kind\": \"realism\""), std::string::npos);
+  aar_testing::RunCommand("rm -rf " + out);
 }
 
 }  // namespace

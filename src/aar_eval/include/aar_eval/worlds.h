@@ -6,8 +6,8 @@
 
 namespace aar_eval {
 
-// One suite run (scripts/suite's DIR) per world: the same approaches and experiments flown in
-// the ideal world and with each realism effect (issue 16, scripts/realism).
+// One suite run (scripts/run --suite's DIR) per world: the same approaches and experiments flown
+// in the ideal world and with each realism effect (issue 16, scripts/run --worlds).
 struct WorldsReportOptions {
   std::string path;  // the report to write (markdown)
   // (name, suite DIR) in table order; the first is the reference (the ideal world) that every
