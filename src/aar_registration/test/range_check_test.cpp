@@ -22,17 +22,12 @@ aar_geometry::TriangleMesh Receiver() {
   return mesh;
 }
 
-// The default rig's left camera (f 1108.5 px, b 0.5 m): looking aft, 25 deg down.
+// The default rig's left camera (f 1108.5 px, b 0.5 m), looking straight aft: optical x along
+// the tanker's -y, y along its z, z (the view) along its -x.
 PinholeCamera LeftCamera() {
   PinholeCamera c;
   c.width = 1280, c.height = 960, c.fx = c.fy = 1108.5, c.cx = 639.5, c.cy = 479.5;
-  const Eigen::Matrix3d R_tanker_view =
-      (Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitZ()) *
-       Eigen::AngleAxisd(25.0 * M_PI / 180.0, Eigen::Vector3d::UnitY()))
-          .toRotationMatrix();
-  Eigen::Matrix3d R_view_optical;  // optical z forward, x right, y down
-  R_view_optical << 0, 0, 1, -1, 0, 0, 0, -1, 0;
-  c.T_tanker_optical.linear() = R_tanker_view * R_view_optical;
+  c.T_tanker_optical.linear() << 0, 0, -1, -1, 0, 0, 0, 1, 0;
   c.T_tanker_optical.translation() = Eigen::Vector3d(-20.0, 0.25, -3.0);
   return c;
 }
