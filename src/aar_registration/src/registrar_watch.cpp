@@ -9,13 +9,13 @@
 
 namespace aar_registration {
 
-bool Registrar::ConfirmsPartialStart(const std::vector<Eigen::Vector3d>& sensed,
-                                     const OutlineFrame* frame, RegistrarResult& out,
-                                     std::string& range_note) {
+bool Registrar::ConfirmsNewTrack(const std::vector<Eigen::Vector3d>& sensed,
+                                 const OutlineFrame* frame, RegistrarResult& out,
+                                 std::string& range_note) {
   const OutlineOptions& o = options_.outline;
   const bool accepted = out.track.outcome == TrackOutcome::kAccepted;
   if (!(o.partial_range_sigmas > 0.0)) return accepted;
-  if (!frame || !aligner_) return false;  // nothing to check with: not a confirmation
+  if (!frame || !aligner_) return accepted;  // nothing to check with: the frames decide
   RangeCheckOptions options;
   options.sigmas = o.partial_range_sigmas;
   options.disparity_sigma = o.disparity_sigma;
@@ -28,7 +28,7 @@ bool Registrar::ConfirmsPartialStart(const std::vector<Eigen::Vector3d>& sensed,
                  frame->boom_parts_in_tanker, out.track.filtered.T_tanker_receiver, options);
   range_note = check.ToString();
   if (check.enough && !check.agrees) {
-    out.track = tracker_.Drop("a partial start's range disagrees with stereo: " + check.ToString());
+    out.track = tracker_.Drop("a new track's range disagrees with stereo: " + check.ToString());
     if (out.outline_ran) out.outline_note = out.track.reason;
     out.valid = false;
     out.error = out.track.reason;
@@ -52,7 +52,7 @@ void Registrar::WatchNewTrack(const std::vector<Eigen::Vector3d>& sensed, const 
     return;
   }
   std::string range_note;
-  const bool confirms = watch_.range ? ConfirmsPartialStart(sensed, frame, out, range_note)
+  const bool confirms = watch_.range ? ConfirmsNewTrack(sensed, frame, out, range_note)
                                      : out.track.outcome == TrackOutcome::kAccepted;
   if (tracker_.state() != TrackState::kTracking) {
     watch_.accepted = -1;  // dropped by the range check

@@ -286,10 +286,11 @@ class Registrar {
   void WatchNewTrack(const std::vector<Eigen::Vector3d>& sensed, const OutlineFrame* frame,
                      RegistrarResult& out);  // each frame
   // Whether this frame confirms a watched start: accepted, and not out of range (stereo's points
-  // agree, or are too few to say). Drops the track (out.track) when stereo's range disagrees;
-  // `range_note` gets the check's figures (RangeCheck::ToString).
-  bool ConfirmsPartialStart(const std::vector<Eigen::Vector3d>& sensed, const OutlineFrame* frame,
-                            RegistrarResult& out, std::string& range_note);
+  // agree, or are too few to say, or there are no images to check with). Drops the track
+  // (out.track) when stereo's range disagrees; `range_note` gets the check's figures
+  // (RangeCheck::ToString).
+  bool ConfirmsNewTrack(const std::vector<Eigen::Vector3d>& sensed, const OutlineFrame* frame,
+                        RegistrarResult& out, std::string& range_note);
 
   RegistrarOptions options_;
   Icp icp_;
