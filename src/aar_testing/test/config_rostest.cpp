@@ -74,6 +74,7 @@ TEST(Config, EveryExperimentLoadsIntoEveryNode) {
       EXPECT_EQ(registration.registrar.outline.partial_below, partial ? 0.6 : 0.0) << name;
       EXPECT_EQ(registration.registrar.outline.partial_range_sigmas, partial ? 3.0 : 0.0) << name;
       EXPECT_EQ(registration.registrar.outline.range_all_starts, partial) << name;
+      EXPECT_EQ(registration.registrar.outline.partial_range_min_points, partial ? 3 : 10) << name;
       if (outline) {
         EXPECT_EQ(registration.registrar.outline.disparity_sigma, 0.25);
       } else {
