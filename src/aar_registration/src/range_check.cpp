@@ -4,6 +4,8 @@
 #include <limits>
 #include <sstream>
 
+#include "aar_registration/covariance_models.h"
+
 namespace aar_registration {
 
 std::string RangeCheck::ToString() const {
@@ -65,7 +67,8 @@ RangeCheck CheckRange(const std::vector<Eigen::Vector3d>& sensed_in_tanker,
   std::nth_element(depths.begin(), middle, depths.end());
   check.median_depth = *middle;
   const double z = check.median_depth;
-  check.tolerance = options.sigmas * z * z * options.disparity_sigma / (left.fx * baseline_m);
+  check.tolerance =
+      options.sigmas * StereoRangeSigma(z, options.disparity_sigma, left.fx, baseline_m);
   check.agrees = z >= check.near - check.tolerance && z <= check.far + check.tolerance;
   return check;
 }

@@ -354,7 +354,7 @@ void Registrar::Start(double stamp_s, const std::vector<Eigen::Vector3d>& sensed
         out.track = tracker_.Update(stamp_s, StartPose(a.T_tanker_receiver), a.covariance);
         out.outline_fused = true;
         out.error.clear();
-        WatchNewTrack(false);  // a start from stereo's seeds is not a partial one
+        StartWatch(false);  // a start from stereo's seeds is not a partial one
         if (k > 0) {
           std::string before = refused.str();
           before.resize(before.size() - 2);
@@ -411,7 +411,7 @@ bool Registrar::ImageStart(double stamp_s, const OutlineFrame& frame, RegistrarR
   out.error.clear();
   partial_share_ = aar_alignment::SeenShare(options_.outline.acquisition, a.alignment);
   const bool partial = partial_share_ < options_.outline.partial_below;
-  WatchNewTrack(partial);
+  StartWatch(partial);
   std::ostringstream s;
   s << "started from the images alone (" << Quality(a.alignment) << ", searched from " << a.range_m
     << " m)";

@@ -25,14 +25,12 @@ Matrix6d Registrar::IcpCovariance(const RegistrarResult& out, const OutlineFrame
   const double sigma_d = options_.outline.disparity_sigma;
   if (!frame || !(sigma_d > 0.0)) return covariance;
   const aar_alignment::PinholeCamera& left = frame->left_camera;
-  const double baseline =
-      (frame->right_camera.T_tanker_optical.translation() - left.T_tanker_optical.translation())
-          .norm();
+  const double baseline = frame->baseline();
   const Eigen::Vector3d ray =
       out.T_tanker_receiver_registered.translation() - left.T_tanker_optical.translation();
   const double z = ray.norm();
   if (!(baseline > 0.0) || !(z > 0.0)) return covariance;
-  const double sigma_z = z * z * sigma_d / (left.fx * baseline);  // [m] of one point
+  const double sigma_z = StereoRangeSigma(z, sigma_d, left.fx, baseline);  // [m] of one point
   const double independent = std::max(
       1.0, std::min<double>(out.icp.correspondences, options_.icp.independent_correspondences));
   const Eigen::Vector3d u = ray / z;
@@ -69,6 +67,10 @@ Eigen::Matrix3d RangeNoiseRotation(const std::vector<Eigen::Vector3d>& points,
     c += axis * axis.transpose() * sigma_z * sigma_z / (independent * l2);
   }
   return c;
+}
+
+double StereoRangeSigma(double z_m, double disparity_sigma, double fx, double baseline_m) {
+  return z_m * z_m * disparity_sigma / (fx * baseline_m);
 }
 
 Matrix6d PersistentSizeCovariance(double range_m, const Eigen::Vector3d& u, double sigma_px,

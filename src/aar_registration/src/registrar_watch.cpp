@@ -20,15 +20,12 @@ bool Registrar::ConfirmsNewTrack(const std::vector<Eigen::Vector3d>& sensed,
   options.sigmas = o.partial_range_sigmas;
   options.disparity_sigma = o.disparity_sigma;
   options.min_points = o.partial_range_min_points;
-  const double baseline = (frame->right_camera.T_tanker_optical.translation() -
-                           frame->left_camera.T_tanker_optical.translation())
-                              .norm();
   const RangeCheck check =
-      CheckRange(sensed, aligner_->model(), frame->left_camera, baseline,
+      CheckRange(sensed, aligner_->model(), frame->left_camera, frame->baseline(),
                  frame->boom_parts_in_tanker, out.track.filtered.T_tanker_receiver, options);
   range_note = check.ToString();
   if (check.enough && !check.agrees) {
-    out.track = tracker_.Drop("a new track's range disagrees with stereo: " + check.ToString());
+    out.track = tracker_.Drop("a new track's range disagrees with stereo: " + range_note);
     if (out.outline_ran) out.outline_note = out.track.reason;
     out.valid = false;
     out.error = out.track.reason;
@@ -37,7 +34,7 @@ bool Registrar::ConfirmsNewTrack(const std::vector<Eigen::Vector3d>& sensed,
   return accepted;  // in range, or stereo has too few points to say: the frames decide
 }
 
-void Registrar::WatchNewTrack(bool partial) {
+void Registrar::StartWatch(bool partial) {
   const OutlineOptions& o = options_.outline;
   watch_.partial = partial && o.partial_confirm > 0;
   watch_.range = o.partial_range_sigmas > 0.0 && (partial || o.range_all_starts);

@@ -9,6 +9,10 @@
 
 namespace aar_registration {
 
+// [m] Stereo's range noise of one point at depth z_m [m]: sigma_Z = Z^2 sigma_d / (f b), with
+// disparity noise sigma_d [px], focal length fx [px] and baseline [m].
+double StereoRangeSigma(double z_m, double disparity_sigma, double fx, double baseline_m);
+
 // [rad^2, tanker frame] The rotation covariance that a range noise of sigma_z [m] along the unit
 // ray `u` (tanker frame), on each of `independent` points, gives a body whose points (its frame)
 // are turned by R into the tanker frame: a point at lever arm l across the ray moves l dtheta in

@@ -114,6 +114,12 @@ struct OutlineFrame {
   cv::Mat left, right;
   aar_alignment::PinholeCamera left_camera, right_camera;
   std::vector<std::vector<Eigen::Vector3d>> boom_parts_in_tanker;
+
+  double baseline() const {  // [m] between the two cameras
+    return (right_camera.T_tanker_optical.translation() -
+            left_camera.T_tanker_optical.translation())
+        .norm();
+  }
 };
 
 // Image errors that persist from frame to frame (a silhouette's edges found a fraction of a pixel
@@ -282,7 +288,7 @@ class Registrar {
   // A new track under watch (a partial start, or any start with range_all_starts): its range
   // checked against stereo's points (partial_range_sigmas) and a partial start's poses withheld
   // (out.valid false and why) until partial_confirm frames in a row are accepted.
-  void WatchNewTrack(bool partial);  // at a start: what to watch
+  void StartWatch(bool partial);  // at a start: what to watch
   void WatchNewTrack(const std::vector<Eigen::Vector3d>& sensed, const OutlineFrame* frame,
                      RegistrarResult& out);  // each frame
   // Whether this frame confirms a watched start: accepted, and not out of range (stereo's points
