@@ -163,7 +163,9 @@ SlurmUser=root
 SlurmdUser=root
 AuthType=auth/munge
 CredType=cred/munge
-AuthInfo=socket={folder}/munge/munge.sock
+# A run requeued (its node lost) waits cred_expire before it flies again: Slurm's 120 s is for
+# credentials sent across a large cluster; one machine's nodes need a few.
+AuthInfo=socket={folder}/munge/munge.sock,cred_expire=30
 StateSaveLocation={folder}/state
 SlurmdSpoolDir={folder}/spool/%n
 SlurmctldPidFile={folder}/run/slurmctld.pid

@@ -55,8 +55,9 @@ bool WaitFor(const std::string& path, int seconds) {
              .status == 0;
 }
 
-// The 2 x 2 suite both engines fly: 2 Hz keeps it about 20 s a run.
-const char* kSuite = "--suite 2 --experiments naive,dynamic --rate 2";
+// The 2 x 2 suite both engines fly: at 0.5 Hz, about 25 frames and 10 s a run (2 Hz: 100
+// frames, 25 s; what these tests check does not need more).
+const char* kSuite = "--suite 2 --experiments naive,dynamic --rate 0.5";
 
 TEST(Campaign, BadEngineInputIsNamedBeforeAnythingStarts) {
   const std::string out = "/tmp/aar_campaign_bad";
@@ -92,7 +93,7 @@ TEST(Campaign, AnInterruptedCampaignSaysHowToResumeAndResumes) {
   // Interrupted (SIGINT, as Ctrl-C) once the first of its two runs is done, the second flying.
   const std::string first = out + "/approaches/01/naive/run.json";
   auto r = aar_testing::RunCommand(
-      ScriptsRun("--suite 1 --experiments naive,dynamic --rate 2 --jobs 1 --out " + out) +
+      ScriptsRun("--suite 1 --experiments naive,dynamic --rate 0.5 --jobs 1 --out " + out) +
       " & pid=$!; for i in $(seq 1 300); do [ -e " + first +
       " ] && break; sleep 1; done; sleep 3; kill -INT $pid; wait $pid");
   EXPECT_EQ(r.status, 1) << r.output;
@@ -106,7 +107,7 @@ TEST(Campaign, AnInterruptedCampaignSaysHowToResumeAndResumes) {
 
   // A new campaign may not write into it.
   r = aar_testing::RunCommand(
-      ScriptsRun("--suite 1 --experiments naive --rate 2 --out " + out, 60));
+      ScriptsRun("--suite 1 --experiments naive --rate 0.5 --out " + out, 60));
   EXPECT_EQ(r.status, 2) << r.output;
   EXPECT_NE(r.output.find("holds a campaign already: resume it with scripts/run --resume"),
             std::string::npos)
@@ -130,7 +131,8 @@ TEST(Campaign, ARunFlownAgainAfterACrashIsNamedWithItsLog) {
   const std::string out = "/tmp/aar_campaign_crash", run = out + "/approaches/01/naive";
   aar_testing::RunCommand("rm -rf " + out);
   // The manager: the child of the run's roslaunch (launch.log is written at the end, so the
-  // test watches the processes), killed 10 s after it started, mid-flight.
+  // test watches the processes), killed 5 s after it started, mid-flight (the run: 1 Hz, about
+  // 55 frames, 16 s).
   const std::string manager =
       "for p in $(pgrep -f '^/usr/bin/python3 /usr/bin/roslaunch .*"
       "output_dir:=" +
@@ -138,9 +140,9 @@ TEST(Campaign, ARunFlownAgainAfterACrashIsNamedWithItsLog) {
       " '); do pgrep -P $p -f '^/usr/lib/nodelet/nodelet manager'; "
       "done | head -n 1";
   auto r = aar_testing::RunCommand(
-      ScriptsRun("--suite 1 --experiments naive --rate 2 --jobs 1 --out " + out) +
+      ScriptsRun("--suite 1 --experiments naive --rate 1 --jobs 1 --out " + out) +
       " & pid=$!; for i in $(seq 1 300); do m=$(" + manager +
-      "); [ -n \"$m\" ] && break; sleep 0.5; done; sleep 10; kill -9 $m; wait $pid");
+      "); [ -n \"$m\" ] && break; sleep 0.5; done; sleep 5; kill -9 $m; wait $pid");
   EXPECT_EQ(r.status, 0) << r.output;
   EXPECT_NE(r.output.find("ok (on its retry; attempt 1: "), std::string::npos) << r.output;
   EXPECT_NE(r.output.find(", its log launch.attempt1.log)"), std::string::npos) << r.output;
@@ -329,16 +331,17 @@ TEST(Campaign, ASuiteOnTwoNodesLosesANodeAndNothingElse) {
   r = aar_testing::RunCommand(
       env + ScriptsRun(std::string(kSuite) + " --engine slurm --no-wait --out " + out, 60));
   ASSERT_EQ(r.status, 0) << r.output;
-  // Tasks 0 and 1 fly at once, one a node; 8 s into both, node 2 dies.
+  // Tasks 0 and 1 fly at once, one a node; 3 s into both (a run there: about 10 s), node 2 dies.
   ASSERT_TRUE(WaitFor(out + "/approaches/01/naive/frames.csv", 120));
   ASSERT_TRUE(WaitFor(out + "/approaches/01/dynamic/frames.csv", 120));
-  aar_testing::RunCommand("sleep 8");
+  aar_testing::RunCommand("sleep 3");
   const std::string on_node2 =
       aar_testing::RunCommand("grep -l 'on node aar-node2$' " + out + "/slurm/*-task-*.log").output;
   ASSERT_EQ(on_node2.find('\n'), on_node2.size() - 1) << "one task on node 2: " << on_node2;
   r = aar_testing::RunCommand(script + "kill " + dir + " 2");
   ASSERT_EQ(r.status, 0) << r.output;
-  // Down within 15 s and some; requeued, then held by Slurm about 2 minutes before it flies again.
+  // Down within 15 s and some; requeued, then held by Slurm for cred_expire (30 s on
+  // scripts/slurm-local's clusters) before it flies again.
   ASSERT_TRUE(WaitFor(out + "/slurm/merge.json", 480)) << Read(dir + "/log/slurmctld.log");
   EXPECT_NE(Read(out + "/slurm/merge.json").find("\"missing\": []"), std::string::npos)
       << Read(out + "/slurm/merge.json");
@@ -387,7 +390,7 @@ TEST(Campaign, ACancelledSlurmTaskIsNamedThenResumed) {
   r = aar_testing::RunCommand(
       env +
       ScriptsRun(
-          "--suite 1 --experiments naive,dynamic --rate 2 --engine slurm --no-wait --out " + out,
+          "--suite 1 --experiments naive,dynamic --rate 0.5 --engine slurm --no-wait --out " + out,
           60));
   ASSERT_EQ(r.status, 0) << r.output;
   // Task 0 (approach 01, naive) cancelled once it flies.
