@@ -37,8 +37,11 @@ TEST(Config, EveryExperimentLoadsIntoEveryNode) {
           aar_occlusion::LoadOcclusionNodeOptions(ros::NodeHandle(root, "occlusion"));
       const auto registration =
           aar_registration::LoadRegistrationNodeOptions(ros::NodeHandle(root, "registration"));
-      const auto stereo =
-          aar_stereo::LoadStereoNodeOptions(ros::NodeHandle(root, "stereo/aar_stereo"));
+      const ros::NodeHandle stereo_nh(root, "stereo/aar_stereo");
+      // The matcher by name (config/stereo.yaml: block_matching; tracking_outline: sparse).
+      const aar_ros_common::ParamReader stereo_params(stereo_nh);
+      const int matcher = aar_stereo::LoadStereoConfig(stereo_params).matcher;
+      const auto stereo = aar_stereo::LoadStereoNodeOptions(stereo_nh);
       // What the experiments claim in their comments.
       if (name == "dynamic") {
         EXPECT_EQ(occlusion.step.cull, aar_occlusion::CullMethod::kVolumes);
@@ -58,6 +61,11 @@ TEST(Config, EveryExperimentLoadsIntoEveryNode) {
       // tracking_outline: tracking_robust and the outline; flight: tracking_outline's settings
       // (FlightHoldsTrackingOutlinesSettings); nothing else has the outline.
       EXPECT_EQ(registration.registrar.outline.enabled, outline) << name;
+      EXPECT_EQ(matcher, outline ? aar_stereo::Stereo_sparse : aar_stereo::Stereo_block_matching)
+          << name;
+      int on_server = -1;  // as dynamic_reconfigure reads it: the number
+      EXPECT_TRUE(stereo_nh.getParam("matcher", on_server)) << name;
+      EXPECT_EQ(on_server, matcher) << name;
       // flight_no_boom: flight with the boom hidden and modelled by no stage.
       EXPECT_EQ(sim.world.boom_visible, name != "flight_no_boom" && name != "no_boom") << name;
       EXPECT_EQ(occlusion.step.model_boom, name != "flight_no_boom") << name;

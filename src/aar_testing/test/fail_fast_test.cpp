@@ -116,7 +116,7 @@ TEST(FailFast, AnExperimentIncludesItsBasesAndAMissingOneIsNamed) {
   ASSERT_EQ(r.status, 0) << r.output;
   const std::string resolved = Read(dir + "/resolved.yaml");
   for (const char* line : {"  max_sensed_points: 2000\n", "  outline: true\n", "  boom: true\n",
-                           "  alert_overbound_factor:\n", "    matcher: 2\n"})
+                           "  alert_overbound_factor:\n", "    matcher: sparse\n"})
     EXPECT_NE(resolved.find(line), std::string::npos) << line << " not in\n" << resolved;
   r = aar_testing::RunCommand(check + "--show " + mine);
   EXPECT_TRUE(std::regex_search(r.output, std::regex("registration/max_sensed_points: +2000 +# "

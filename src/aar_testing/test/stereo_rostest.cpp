@@ -294,6 +294,12 @@ TEST(BadInput, InvalidSettingsAreRefusedByName) {
        "matcher settings refused: sparse matcher: num_disparities must be a multiple of 16 up to "
        "128, not 256"},
       {"_decimation:=7", "decimation must be in [0, 2], not 7"},
+      // An enum setting by name: one of its constants' names, each then as its number.
+      {"_matcher:=sgbm",
+       "matcher must be one of block_matching, semi_global, sparse (or its number), not 'sgbm'"},
+      {"_matcher:=sparse _num_disparities:=256",
+       "matcher settings refused: sparse matcher: num_disparities must be a multiple of 16 up to "
+       "128, not 256"},
       {"_block_size:=abc", "block_size must be of type int"},
       {"_block_size:=-9", "block_size must be in [1, 255], not -9"},
       {"_block_size:=9.5", "block_size must be of type int"},
@@ -314,11 +320,14 @@ TEST(BadInput, InvalidSettingsAreRefusedByName) {
     EXPECT_NE(r.output.find("/" + name + "/" + c.needle), std::string::npos)
         << c.arg << ": " << r.output;
   }
-  // Good settings still start (and are stopped by the timeout: status 124).
+  // Good settings still start (and are stopped by the timeout: status 124). Names are written
+  // back as numbers, which dynamic_reconfigure reads (a name would become its default, 0).
   const auto good = aar_testing::RunCommand(
-      "timeout 3 rosrun aar_stereo stereo_node __name:=good_settings _block_size:=11 "
-      "_matcher:=1 _decimation:=0 _organized:=true _max_range:=500");
+      "timeout 4 rosrun aar_stereo stereo_node __name:=good_settings _block_size:=11 "
+      "_matcher:=semi_global _decimation:=none _organized:=true _max_range:=500 & sleep 3; "
+      "rosparam get /good_settings/matcher; rosparam get /good_settings/decimation; wait $!");
   EXPECT_EQ(good.status, 124) << good.output;
+  EXPECT_NE(good.output.find("1\n0\n"), std::string::npos) << good.output;
 }
 
 TEST(BadInput, PairsThatWaitedTooLongAreDroppedNotProcessedLate) {

@@ -1,7 +1,12 @@
 // The stereo node's parameters, apart from the node so that they can be read without a master
 // (ParamReader over a parameter tree: the parameter fuzz target).
 #include <cmath>
+#include <optional>
+#include <regex>
 #include <sstream>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include <aar_ros_common/node_options.h>
 #include <aar_ros_common/param_reader.h>
@@ -15,6 +20,36 @@ namespace aar_stereo {
 namespace {
 
 using XmlRpc::XmlRpcValue;
+using Description = StereoConfig::AbstractParamDescriptionConstPtr;
+
+// An enum setting (an edit_method of Stereo.cfg: matcher, decimation) may be given by its
+// constant's name ("sparse") as well as by its number. The constants as (name, number).
+std::vector<std::pair<std::string, int>> EnumConstants(const Description& p) {
+  static const std::regex constant(R"('name': '(\w+)', 'type': 'int', 'value': (-?[0-9]+))");
+  std::vector<std::pair<std::string, int>> constants;
+  const std::string& m = p->edit_method;
+  for (auto it = std::sregex_iterator(m.begin(), m.end(), constant); it != std::sregex_iterator();
+       ++it) {
+    constants.emplace_back((*it)[1].str(), std::stoi((*it)[2].str()));
+  }
+  return constants;
+}
+
+// The number of the constant `name` of enum setting p; none if p has no such constant.
+std::optional<int> EnumNumber(const Description& p, const std::string& name) {
+  for (const auto& [n, v] : EnumConstants(p))
+    if (n == name) return v;
+  return std::nullopt;
+}
+
+// A name given for an enum setting, refused unless it is one of its constants.
+void CheckEnumName(const aar_ros_common::ParamReader& params, const Description& p,
+                   const std::string& name) {
+  std::string names;
+  for (const auto& [n, v] : EnumConstants(p)) names += (names.empty() ? "" : ", ") + n;
+  params.Check(EnumNumber(p, name).has_value(), p->name,
+               "must be one of " + names + " (or its number), not '" + name + "'");
+}
 
 // dynamic_reconfigure quietly clamps a setting to its range and takes the default for one of the
 // wrong type, and ToStereoOptions rounds block sizes and disparity counts: at start-up each of
@@ -25,6 +60,10 @@ void CheckReconfigurableSettings(const aar_ros_common::ParamReader& params) {
     if (!params.GetValue(p->name, value)) continue;  // unset: the default
     const auto type = value.getType();
     const bool is_int = type == XmlRpcValue::TypeInt;
+    if (p->type == "int" && type == XmlRpcValue::TypeString && !EnumConstants(p).empty()) {
+      CheckEnumName(params, p, static_cast<std::string&>(value));
+      continue;
+    }
     const bool ok_type = p->type == "int"      ? is_int
                          : p->type == "double" ? is_int || type == XmlRpcValue::TypeDouble
                          : p->type == "bool"   ? type == XmlRpcValue::TypeBoolean
@@ -62,7 +101,15 @@ void CheckReconfigurableSettings(const aar_ros_common::ParamReader& params) {
 
 StereoNodeOptions LoadStereoNodeOptions(const ros::NodeHandle& nh) {
   aar_ros_common::ParamReader params(nh);
-  return LoadStereoNodeOptions(params);
+  StereoNodeOptions o = LoadStereoNodeOptions(params);
+  // dynamic_reconfigure's server reads its settings from the parameter server as numbers (a name
+  // would quietly become the default): an enum setting given by name is written back as its number.
+  for (const auto& p : StereoConfig::__getParamDescriptions__()) {
+    std::string name;
+    if (p->type != "int" || !nh.getParam(p->name, name)) continue;
+    if (const auto number = EnumNumber(p, name)) nh.setParam(p->name, *number);
+  }
+  return o;
 }
 
 StereoNodeOptions LoadStereoNodeOptions(aar_ros_common::ParamReader& params) {
@@ -104,7 +151,12 @@ StereoConfig LoadStereoConfig(const aar_ros_common::ParamReader& params) {
     XmlRpcValue v;
     if (!params.GetValue(p->name, v)) continue;
     const auto type = v.getType();
-    if (p->type == "int" && type == XmlRpcValue::TypeInt) {
+    const std::optional<int> named = p->type == "int" && type == XmlRpcValue::TypeString
+                                         ? EnumNumber(p, static_cast<std::string&>(v))
+                                         : std::nullopt;
+    if (named) {
+      dynamic_reconfigure::ConfigTools::appendParameter(request, p->name, *named);
+    } else if (p->type == "int" && type == XmlRpcValue::TypeInt) {
       dynamic_reconfigure::ConfigTools::appendParameter(request, p->name, static_cast<int&>(v));
     } else if (p->type == "double" && type == XmlRpcValue::TypeInt) {
       dynamic_reconfigure::ConfigTools::appendParameter(request, p->name,
