@@ -163,6 +163,25 @@ double ViewVisibility::fraction() const {
                            : std::numeric_limits<double>::quiet_NaN();
 }
 
+namespace {
+
+// The receiver's pixels in `alone` (drawn by itself) and, of those, the ones `scene` does not
+// give to the boom.
+ViewVisibility CountVisible(const Image<uint8_t>& alone, const Image<uint8_t>& scene) {
+  if (alone.data.size() != scene.data.size()) {
+    throw std::logic_error("visibility: the receiver's label is not the frame's size");
+  }
+  ViewVisibility v;
+  for (size_t i = 0; i < alone.data.size(); ++i) {
+    if (alone.data[i] != static_cast<uint8_t>(Label::kReceiver)) continue;
+    ++v.silhouette_px;
+    if (scene.data[i] != static_cast<uint8_t>(Label::kBoom)) ++v.visible_px;
+  }
+  return v;
+}
+
+}  // namespace
+
 std::array<ViewVisibility, 2> World::MeasureVisibility(const StereoFrame& frame) {
   if (frame.left.label.data.empty() || frame.right.label.data.empty()) {
     throw std::invalid_argument("visibility needs the frame's label (render it with want_label)");
@@ -170,21 +189,36 @@ std::array<ViewVisibility, 2> World::MeasureVisibility(const StereoFrame& frame)
   const std::vector<DrawItem> receiver_alone = {{receiver_handle_, frame.T_tanker_receiver}};
   std::array<ViewVisibility, 2> out;
   for (int camera = 0; camera < 2; ++camera) {
-    const Image<uint8_t>& scene = camera == 0 ? frame.left.label : frame.right.label;
-    const Image<uint8_t> alone =
-        Crop(renderer_.RenderLabel(camera == 0 ? options_.rig.T_tanker_left_optical
-                                               : options_.rig.T_tanker_right_optical(),
-                                   receiver_alone),
-             view_margin_);
-    if (alone.data.size() != scene.data.size()) {
-      throw std::logic_error("visibility: the receiver's label is not the frame's size");
+    const Eigen::Isometry3d T =
+        camera == 0 ? options_.rig.T_tanker_left_optical : options_.rig.T_tanker_right_optical();
+    out[camera] = CountVisible(Crop(renderer_.RenderLabel(T, receiver_alone), view_margin_),
+                               camera == 0 ? frame.left.label : frame.right.label);
+  }
+  return out;
+}
+
+std::array<ViewVisibility, 2> World::MeasureVisibility(const FlightPathRow& row,
+                                                       const BoomPose& boom, const StereoRig& rig) {
+  const CameraIntrinsics& mine = options_.rig.intrinsics;
+  if (rig.intrinsics.width != mine.width || rig.intrinsics.height != mine.height ||
+      rig.intrinsics.fx != mine.fx || rig.intrinsics.fy != mine.fy ||
+      rig.intrinsics.cx != mine.cx || rig.intrinsics.cy != mine.cy) {
+    throw std::invalid_argument("visibility: a rig's cameras must have the world's intrinsics");
+  }
+  const std::vector<DrawItem> receiver_alone = {{receiver_handle_, row.T_tanker_receiver()}};
+  std::vector<DrawItem> scene = receiver_alone;
+  if (options_.boom_visible) {
+    const auto links = aar_geometry::ComputeLinkPoses(boom_, BoomJointPositions(boom));
+    for (const auto& e : boom_elements_) {
+      scene.push_back({e.mesh, links.at(e.link) * e.T_link_geometry});
     }
-    ViewVisibility& v = out[camera];
-    for (size_t i = 0; i < alone.data.size(); ++i) {
-      if (alone.data[i] != static_cast<uint8_t>(Label::kReceiver)) continue;
-      ++v.silhouette_px;
-      if (scene.data[i] != static_cast<uint8_t>(Label::kBoom)) ++v.visible_px;
-    }
+  }
+  std::array<ViewVisibility, 2> out;
+  for (int camera = 0; camera < 2; ++camera) {
+    const Eigen::Isometry3d T =
+        camera == 0 ? rig.T_tanker_left_optical : rig.T_tanker_right_optical();
+    out[camera] = CountVisible(Crop(renderer_.RenderLabel(T, receiver_alone), view_margin_),
+                               Crop(renderer_.RenderLabel(T, scene), view_margin_));
   }
   return out;
 }

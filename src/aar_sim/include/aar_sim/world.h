@@ -84,6 +84,11 @@ class World {
   // alone against the frame's label. Throws std::invalid_argument when `frame` was rendered
   // without its label (Render's want_label).
   std::array<ViewVisibility, 2> MeasureVisibility(const StereoFrame& frame);
+  // The same from another rig's cameras (left, right) at (row, boom), rendering only the labels:
+  // what a mount would see before it flies (tools/mount_visibility). The rig's intrinsics must
+  // be the world's (std::invalid_argument otherwise); for the world's own rig it equals the above.
+  std::array<ViewVisibility, 2> MeasureVisibility(const FlightPathRow& row, const BoomPose& boom,
+                                                  const StereoRig& rig);
 
   const WorldOptions& options() const { return options_; }
   const aar_geometry::TriangleMesh& receiver_mesh() const { return receiver_; }
