@@ -111,6 +111,13 @@ World::World(const WorldOptions& options)
 
 StereoFrame World::Render(const FlightPathRow& row, const BoomPose& boom, uint64_t frame_index,
                           bool want_label, bool want_depth, const SceneState* exposure_end) {
+  return RenderRig(options_.rig, 0, row, boom, frame_index, want_label, want_depth, exposure_end);
+}
+
+StereoFrame World::RenderRig(const StereoRig& rig, uint64_t stream, const FlightPathRow& row,
+                             const BoomPose& boom, uint64_t frame_index, bool want_label,
+                             bool want_depth, const SceneState* exposure_end) {
+  CheckIntrinsics(rig);
   StereoFrame frame;
   frame.T_tanker_receiver = row.T_tanker_receiver();
   frame.boom = boom;
@@ -125,8 +132,8 @@ StereoFrame World::Render(const FlightPathRow& row, const BoomPose& boom, uint64
   // label and depth too.
   const SensorOptions& sensor = options_.sensor;
   const bool blur = sensor.motion_blur && exposure_end;
-  const Eigen::Isometry3d T_tanker_left = options_.rig.T_tanker_left_optical,
-                          T_tanker_right = options_.rig.T_tanker_right_optical();
+  const Eigen::Isometry3d T_tanker_left = rig.T_tanker_left_optical,
+                          T_tanker_right = rig.T_tanker_right_optical();
   const std::vector<PropellerItem> propellers = Propellers(row);
   frame.left =
       renderer_.Render(T_tanker_left, items, want_label || blur, want_depth || blur, propellers);
@@ -143,7 +150,7 @@ StereoFrame World::Render(const FlightPathRow& row, const BoomPose& boom, uint64
     input.depth = &view.depth;
     input.motion = blur ? &motion : nullptr;
     input.camera = camera;
-    input.view_key = 2 * frame_index + camera;
+    input.view_key = 2 * frame_index + camera + (stream << 40);  // rig 0: 2 frame + camera
     input.exposure_gain = gain;
     view.image = Expose(sensor, input);
     if (!want_label) view.label = {};
@@ -156,6 +163,14 @@ StereoFrame World::Render(const FlightPathRow& row, const BoomPose& boom, uint64
     CropView(frame.right, view_margin_);
   }
   return frame;
+}
+
+void World::CheckIntrinsics(const StereoRig& rig) const {
+  const CameraIntrinsics &theirs = rig.intrinsics, &mine = options_.rig.intrinsics;
+  if (theirs.width != mine.width || theirs.height != mine.height || theirs.fx != mine.fx ||
+      theirs.fy != mine.fy || theirs.cx != mine.cx || theirs.cy != mine.cy) {
+    throw std::invalid_argument("a rig's cameras must have the world's intrinsics");
+  }
 }
 
 double ViewVisibility::fraction() const {
@@ -183,6 +198,11 @@ ViewVisibility CountVisible(const Image<uint8_t>& alone, const Image<uint8_t>& s
 }  // namespace
 
 std::array<ViewVisibility, 2> World::MeasureVisibility(const StereoFrame& frame) {
+  return MeasureVisibility(frame, options_.rig);
+}
+
+std::array<ViewVisibility, 2> World::MeasureVisibility(const StereoFrame& frame,
+                                                       const StereoRig& rig) {
   if (frame.left.label.data.empty() || frame.right.label.data.empty()) {
     throw std::invalid_argument("visibility needs the frame's label (render it with want_label)");
   }
@@ -190,7 +210,7 @@ std::array<ViewVisibility, 2> World::MeasureVisibility(const StereoFrame& frame)
   std::array<ViewVisibility, 2> out;
   for (int camera = 0; camera < 2; ++camera) {
     const Eigen::Isometry3d T =
-        camera == 0 ? options_.rig.T_tanker_left_optical : options_.rig.T_tanker_right_optical();
+        camera == 0 ? rig.T_tanker_left_optical : rig.T_tanker_right_optical();
     out[camera] = CountVisible(Crop(renderer_.RenderLabel(T, receiver_alone), view_margin_),
                                camera == 0 ? frame.left.label : frame.right.label);
   }
@@ -199,12 +219,7 @@ std::array<ViewVisibility, 2> World::MeasureVisibility(const StereoFrame& frame)
 
 std::array<ViewVisibility, 2> World::MeasureVisibility(const FlightPathRow& row,
                                                        const BoomPose& boom, const StereoRig& rig) {
-  const CameraIntrinsics& mine = options_.rig.intrinsics;
-  if (rig.intrinsics.width != mine.width || rig.intrinsics.height != mine.height ||
-      rig.intrinsics.fx != mine.fx || rig.intrinsics.fy != mine.fy ||
-      rig.intrinsics.cx != mine.cx || rig.intrinsics.cy != mine.cy) {
-    throw std::invalid_argument("visibility: a rig's cameras must have the world's intrinsics");
-  }
+  CheckIntrinsics(rig);
   const std::vector<DrawItem> receiver_alone = {{receiver_handle_, row.T_tanker_receiver()}};
   std::vector<DrawItem> scene = receiver_alone;
   if (options_.boom_visible) {

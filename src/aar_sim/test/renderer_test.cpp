@@ -294,6 +294,27 @@ TEST(Renderer, VisibilityFromAnotherRigIsThatOfAWorldWithIt) {
   EXPECT_THROW(world.MeasureVisibility(row, DefaultBoomPose(), other_lens), std::invalid_argument);
 }
 
+// A second rig (World::RenderRig) renders what a world built with that rig renders, on a noise
+// stream of its own: with stream 0 (the world's own rig's) its images are that world's bit for
+// bit, with stream 1 the same labels and other noise.
+TEST(Renderer, ASecondRigRendersWhatAWorldWithItDoes) {
+  const WorldOptions o = TestWorld(true, 2.0);
+  WorldOptions mirrored = o;
+  mirrored.rig = MakeStereoRig(o.rig.intrinsics, 0.5, {-15.0, -1.0, -4.0});
+  World world(o), there(mirrored);
+  const FlightPathRow row = Receiver(-60.0, -3.0, -18.0, 0.0);
+  const StereoFrame theirs = there.Render(row, DefaultBoomPose(), 3, true);
+  ExpectSameFrame(world.RenderRig(mirrored.rig, 0, row, DefaultBoomPose(), 3, true), theirs);
+  const StereoFrame own = world.RenderRig(mirrored.rig, 1, row, DefaultBoomPose(), 3, true);
+  EXPECT_EQ(own.left.label.data, theirs.left.label.data);
+  EXPECT_NE(own.left.image.data, theirs.left.image.data);
+  ExpectSameFrame(world.Render(row, DefaultBoomPose(), 3, true),
+                  world.RenderRig(o.rig, 0, row, DefaultBoomPose(), 3, true));
+  StereoRig other_lens = mirrored.rig;
+  other_lens.intrinsics = CameraIntrinsics::FromHorizontalFov(640, 480, 50.0);
+  EXPECT_THROW(world.RenderRig(other_lens, 1, row, DefaultBoomPose(), 3), std::invalid_argument);
+}
+
 // The label-only render leaves nothing behind: in a world with the sun's shadows, a background
 // and propellers, the frame rendered after a visibility measure is the frame before, bit for bit.
 // The propellers' discs are the receiver's: visible, not hidden.

@@ -162,5 +162,52 @@ TEST(SimOptions, SensorValuesOutOfRangeAreRefusedNamingTheKey) {
   }
 }
 
+// ~rigs: absent, the one rig of the top-level mount; a second rig takes the top-level keys it
+// does not set; the first must be stereo, names unique and well formed, keys the mount's.
+TEST(SimOptions, RigsAfterTheFirstTakeTheTopLevelKeysTheyDoNotSet) {
+  XmlRpc::XmlRpcValue tree = Tree();
+  const SimNodeOptions one = Load(tree);
+  EXPECT_TRUE(one.more_rigs.empty());
+  tree["sim"]["camera_z"] = -4.0;
+  XmlRpc::XmlRpcValue first, second;
+  first["name"] = std::string("stereo");
+  second["name"] = std::string("share_mirror");
+  second["camera_x"] = -15.0;
+  second["camera_y"] = -1;  // an int is a number too
+  tree["sim"]["rigs"][0] = first;
+  tree["sim"]["rigs"][1] = second;
+  const SimNodeOptions two = Load(tree);
+  ASSERT_EQ(two.more_rigs.size(), 1u);
+  EXPECT_EQ(two.more_rigs[0].name, "share_mirror");
+  const Eigen::Vector3d centre = two.more_rigs[0].rig.T_tanker_left_optical *
+                                 Eigen::Vector3d(0.5 * two.more_rigs[0].rig.baseline, 0.0, 0.0);
+  EXPECT_TRUE(centre.isApprox(Eigen::Vector3d(-15.0, -1.0, -4.0), 1e-12)) << centre.transpose();
+  EXPECT_TRUE(two.world.rig.T_tanker_left_optical.isApprox(
+      MakeStereoRig(two.world.rig.intrinsics, 0.5, {-20.0, 1.0, -4.0}).T_tanker_left_optical));
+  EXPECT_TRUE(two.more_rigs[0].rig.T_tanker_left_optical.linear().isApprox(
+      two.world.rig.T_tanker_left_optical.linear()));  // looking the same way
+  XmlRpc::XmlRpcValue bad = second;
+  bad["camera_w"] = 1.0;
+  for (const auto& [rigs, text] :
+       std::vector<std::pair<std::vector<XmlRpc::XmlRpcValue>, std::string>>{
+           {{second}, "the first rig is stereo"},
+           {{first, first}, "names rig stereo twice"},
+           {{first, bad}, "rig share_mirror: unknown key camera_w"},
+       }) {
+    XmlRpc::XmlRpcValue t = Tree();
+    for (size_t i = 0; i < rigs.size(); ++i) t["sim"]["rigs"][int(i)] = rigs[i];
+    EXPECT_NE(ErrorOf(t).find("/sim/rigs " + text), std::string::npos) << ErrorOf(t);
+  }
+  XmlRpc::XmlRpcValue t = Tree();
+  XmlRpc::XmlRpcValue odd = second;
+  odd["name"] = std::string("2nd rig");
+  t["sim"]["rigs"][0] = first;
+  t["sim"]["rigs"][1] = odd;
+  EXPECT_NE(ErrorOf(t).find("a name is a letter"), std::string::npos) << ErrorOf(t);
+  t = Tree();
+  t["sim"]["rigs"] = std::string("stereo");
+  EXPECT_NE(ErrorOf(t).find("/sim/rigs must be a list"), std::string::npos) << ErrorOf(t);
+}
+
 }  // namespace
 }  // namespace aar_sim

@@ -41,10 +41,17 @@ TEST(Sim, StereoPairsCameraInfosAndTruth) {
   Collector<sensor_msgs::CameraInfo> left_info(nh, "stereo/left/camera_info"),
       right_info(nh, "stereo/right/camera_info");
   Collector<sensor_msgs::JointState> joints(nh, "joint_states");
+  // sim.test's second rig, `port`: its pairs under the same stamps, in its namespace and frames.
+  Collector<sensor_msgs::Image> port_left(nh, "port/left/image_rect");
+  Collector<sensor_msgs::CameraInfo> port_right_info(nh, "port/right/camera_info");
   tf2_ros::Buffer tf_buffer;
   tf2_ros::TransformListener tf_listener(tf_buffer);
   aar_testing::WaitFor(
-      [&] { return left.size() >= 4 && right_info.size() >= 4 && joints.size() >= 4; }, 60.0);
+      [&] {
+        return left.size() >= 4 && right_info.size() >= 4 && joints.size() >= 4 &&
+               port_left.size() >= 4 && port_right_info.size() >= 4;
+      },
+      60.0);
   ros::WallDuration(0.5).sleep();  // let tf catch up with the last frames
   ASSERT_GE(left.size(), 4u) << "fewer than 4 stereo frames in 60 s";
 
@@ -52,9 +59,9 @@ TEST(Sim, StereoPairsCameraInfosAndTruth) {
   ASSERT_TRUE(pnh.getParam("flight_path", path_file));
   const FlightPath path = FlightPath::Load(path_file);
   const double fx = 320.0 / std::tan(25.0 * M_PI / 180.0);  // 640 px wide, 50 deg
-  int checked = 0;
+  int checked = 0, port_checked = 0;
   std::lock_guard<std::mutex> l1(left.mutex), l2(right.mutex), l3(left_info.mutex),
-      l4(right_info.mutex);
+      l4(right_info.mutex), l6(port_left.mutex), l7(port_right_info.mutex);
   for (const auto& [stamp, image] : left.by_stamp) {
     if (!right.by_stamp.count(stamp) || !left_info.by_stamp.count(stamp) ||
         !right_info.by_stamp.count(stamp))
@@ -89,8 +96,21 @@ TEST(Sim, StereoPairsCameraInfosAndTruth) {
                                                  stamp, ros::Duration(1.0));
     EXPECT_NEAR(mount.transform.translation.x, 0.6, 1e-9);
     ++checked;
+    // The second rig: the frame's stamp, its own frame, the top-level baseline, its mount.
+    if (!port_left.by_stamp.count(stamp) || !port_right_info.by_stamp.count(stamp)) continue;
+    const auto& port = port_left.by_stamp.at(stamp);
+    EXPECT_EQ(port->header.frame_id, "port_left_optical");
+    EXPECT_NE(port->data, image->data);  // another view
+    EXPECT_NEAR(port_right_info.by_stamp.at(stamp)->P[3], -fx * 0.6, 1e-6);
+    const Eigen::Isometry3d port_mount = tf2::transformToEigen(
+        tf_buffer.lookupTransform("tanker", "port_left_optical", stamp, ros::Duration(1.0)));
+    EXPECT_LT(
+        (port_mount * Eigen::Vector3d(0.3, 0.0, 0.0) - Eigen::Vector3d(-15.0, -1.0, -4.0)).norm(),
+        1e-9);
+    ++port_checked;
   }
   EXPECT_GE(checked, 3);
+  EXPECT_GE(port_checked, 3);
 
   // Boom links from robot_state_publisher agree with the URDF's kinematics at the joint states.
   const auto nozzle =

@@ -79,11 +79,19 @@ class World {
   StereoFrame Render(const FlightPathRow& row, const BoomPose& boom, uint64_t frame_index,
                      bool want_label = false, bool want_depth = false,
                      const SceneState* exposure_end = nullptr);
+  // The same from another rig's cameras (a second rig: lenses, sensor and intrinsics are the
+  // world's; std::invalid_argument for other intrinsics). `stream` (1, 2, ...) keeps the rig's
+  // noise apart from the world's own rig's (0: Render's).
+  StereoFrame RenderRig(const StereoRig& rig, uint64_t stream, const FlightPathRow& row,
+                        const BoomPose& boom, uint64_t frame_index, bool want_label = false,
+                        bool want_depth = false, const SceneState* exposure_end = nullptr);
 
   // The visibility of the receiver in each view of `frame` (left, right): its silhouette drawn
   // alone against the frame's label. Throws std::invalid_argument when `frame` was rendered
   // without its label (Render's want_label).
   std::array<ViewVisibility, 2> MeasureVisibility(const StereoFrame& frame);
+  // The same for a frame RenderRig rendered from `rig`.
+  std::array<ViewVisibility, 2> MeasureVisibility(const StereoFrame& frame, const StereoRig& rig);
   // The same from another rig's cameras (left, right) at (row, boom), rendering only the labels:
   // what a mount would see before it flies (tools/mount_visibility). The rig's intrinsics must
   // be the world's (std::invalid_argument otherwise); for the world's own rig it equals the above.
@@ -120,6 +128,7 @@ class World {
   std::vector<std::pair<std::string, Eigen::AlignedBox3d>> link_boxes_;
   ViewMotion Motion(const Eigen::Isometry3d& T_tanker_optical, const StereoFrame& start,
                     const SceneState& end) const;
+  void CheckIntrinsics(const StereoRig& rig) const;  // throws unless the world's
 };
 
 }  // namespace aar_sim

@@ -48,14 +48,23 @@ void SimNode::CheckStartTime() const {
 void SimNode::Advertise() {
   // Raw cameras publish where a camera driver does (image_proc's rectify nodelets take them).
   const std::string image = options_.world.raw.enabled ? "image_raw" : "image_rect";
-  left_pub_ = it_.advertiseCamera("stereo/left/" + image, 2);
-  right_pub_ = it_.advertiseCamera("stereo/right/" + image, 2);
-  if (options_.publish_labels) {
-    left_label_pub_ = it_.advertise("stereo/left/label", 2);
-    right_label_pub_ = it_.advertise("stereo/right/label", 2);
-  }
-  if (options_.measure_visibility) {
-    visibility_pub_ = nh_.advertise<aar_msgs::Visibility>("sim/visibility", 10);
+  rigs_.resize(1 + options_.more_rigs.size());
+  for (size_t i = 0; i < rigs_.size(); ++i) {
+    RigPublishers& r = rigs_[i];
+    r.name = i == 0 ? "stereo" : options_.more_rigs[i - 1].name;
+    r.rig = i == 0 ? &options_.world.rig : &options_.more_rigs[i - 1].rig;
+    r.left_frame = r.name + "_left_optical";
+    r.right_frame = r.name + "_right_optical";
+    r.left = it_.advertiseCamera(r.name + "/left/" + image, 2);
+    r.right = it_.advertiseCamera(r.name + "/right/" + image, 2);
+    if (options_.publish_labels) {
+      r.left_label = it_.advertise(r.name + "/left/label", 2);
+      r.right_label = it_.advertise(r.name + "/right/label", 2);
+    }
+    if (options_.measure_visibility) {
+      r.visibility = nh_.advertise<aar_msgs::Visibility>(
+          i == 0 ? "sim/visibility" : "sim/" + r.name + "/visibility", 10);
+    }
   }
   joint_pub_ = nh_.advertise<sensor_msgs::JointState>("joint_states", 10);
   clock_pub_ = nh_.advertise<rosgraph_msgs::Clock>("/clock", 10);
@@ -72,11 +81,13 @@ void SimNode::PublishStatic() {
                                                  aar_ros_common::Rgba(0.8f, 0.8f, 0.8f, 1.0f),
                                                  receiver.T_body_mesh, receiver.scale));
   const ros::Time now(options_.stamp_offset + path_.start_time());
-  const StereoRig& rig = options_.world.rig;
-  static_tf_.sendTransform(
-      {ToTransformMsg(Eigen::Isometry3d::Identity(), now, "world", "tanker"),
-       ToTransformMsg(rig.T_tanker_left_optical, now, "tanker", "stereo_left_optical"),
-       ToTransformMsg(rig.T_tanker_right_optical(), now, "tanker", "stereo_right_optical")});
+  std::vector<geometry_msgs::TransformStamped> mounts = {
+      ToTransformMsg(Eigen::Isometry3d::Identity(), now, "world", "tanker")};
+  for (const RigPublishers& r : rigs_) {
+    mounts.push_back(ToTransformMsg(r.rig->T_tanker_left_optical, now, "tanker", r.left_frame));
+    mounts.push_back(ToTransformMsg(r.rig->T_tanker_right_optical(), now, "tanker", r.right_frame));
+  }
+  static_tf_.sendTransform(mounts);
 }
 
 void SimNode::LogSettings() const {
@@ -91,9 +102,10 @@ void SimNode::LogSettings() const {
                             " path seconds per wall second"
                       : "")
               << (options_.world.boom_visible ? "" : "; boom hidden")
+              << (rigs_.size() > 1 ? "; " + std::to_string(rigs_.size()) + " rigs" : "")
               << (world_->raw_left()
-                      ? "; raw distorted images on " + left_pub_.getTopic() + ", " +
-                            right_pub_.getTopic() + " (" +
+                      ? "; raw distorted images on " + rigs_[0].left.getTopic() + ", " +
+                            rigs_[0].right.getTopic() + " (" +
                             std::to_string(100.0 * world_->raw_left()->outside_fraction()) +
                             " % of raw pixels beyond the rendered view)"
                       : ""));
@@ -185,7 +197,7 @@ void SimNode::WaitToStart() const {
   if (options_.wait_for_subscribers) {
     ROS_INFO("sim: waiting for subscribers to both images");
     while (!stop_ && ros::ok() &&
-           (left_pub_.getNumSubscribers() == 0 || right_pub_.getNumSubscribers() == 0)) {
+           (rigs_[0].left.getNumSubscribers() == 0 || rigs_[0].right.getNumSubscribers() == 0)) {
       ros::WallDuration(0.05).sleep();
     }
   }
@@ -201,7 +213,8 @@ int SimNode::FrameCount() const {
   return options_.max_frames > 0 ? std::min(options_.max_frames, path_frames) : path_frames;
 }
 
-StereoFrame SimNode::RenderFrame(int k, double t, const FlightPathRow& row, const BoomPose& boom) {
+StereoFrame SimNode::RenderFrame(int k, double t, const FlightPathRow& row, const BoomPose& boom,
+                                 size_t rig) {
   // Motion blur integrates from t to the exposure's end; the truth is the state at t.
   std::optional<SceneState> exposure_end;
   if (options_.world.sensor.motion_blur) {
@@ -209,9 +222,9 @@ StereoFrame SimNode::RenderFrame(int k, double t, const FlightPathRow& row, cons
     exposure_end = SceneState{row_end, boom_end};
   }
   try {
-    return world_->Render(row, boom, static_cast<uint64_t>(k),
-                          options_.publish_labels || options_.measure_visibility, false,
-                          exposure_end ? &*exposure_end : nullptr);
+    return world_->RenderRig(*rigs_[rig].rig, rig, row, boom, static_cast<uint64_t>(k),
+                             options_.publish_labels || options_.measure_visibility, false,
+                             exposure_end ? &*exposure_end : nullptr);
   } catch (const std::exception& e) {
     throw std::runtime_error("rendering frame " + std::to_string(k) + " failed: " + e.what());
   }
@@ -243,6 +256,7 @@ void SimNode::Loop() {
     const auto [row, boom] = StateAt(t);
     const ros::Time stamp(options_.stamp_offset + t);
     PublishFrame(k, row, boom, RenderFrame(k, t, row, boom), stamp);
+    PublishMoreRigs(k, t, row, boom, stamp);
     if (options_.lockstep) {
       if (!WaitForEstimate(k, stamp)) ++misses;
     } else {  // a wall-clock rate, interruptible by the destructor
@@ -265,8 +279,9 @@ std::pair<FlightPathRow, BoomPose> SimNode::StateAt(double t) const {
   return turbulence_.Apply(t, row, boom, world_->boom_model().joints);
 }
 
-void SimNode::PublishVisibility(const StereoFrame& frame, const ros::Time& stamp) {
-  const std::array<ViewVisibility, 2> views = world_->MeasureVisibility(frame);
+void SimNode::PublishVisibility(const ros::Publisher& pub,
+                                const std::array<ViewVisibility, 2>& views,
+                                const ros::Time& stamp) {
   aar_msgs::Visibility msg;
   msg.header.stamp = stamp;
   msg.header.frame_id = "tanker";
@@ -275,7 +290,7 @@ void SimNode::PublishVisibility(const StereoFrame& frame, const ros::Time& stamp
     msg.silhouette_px.push_back(static_cast<uint32_t>(views[camera].silhouette_px));
     msg.visible_px.push_back(static_cast<uint32_t>(views[camera].visible_px));
   }
-  visibility_pub_.publish(msg);
+  pub.publish(msg);
 }
 
 void SimNode::PublishFrame(int index, const FlightPathRow& row, const BoomPose& boom,
@@ -292,30 +307,48 @@ void SimNode::PublishFrame(int index, const FlightPathRow& row, const BoomPose& 
   }
   joint_pub_.publish(joints);
   tf_.sendTransform(ToTransformMsg(row.T_tanker_receiver(), stamp, "tanker", "receiver_truth"));
-  if (options_.measure_visibility) PublishVisibility(frame, stamp);
+  if (options_.measure_visibility) {
+    PublishVisibility(rigs_[0].visibility, world_->MeasureVisibility(frame), stamp);
+  }
+  PublishImages(0, index, frame, stamp);
+}
 
-  const CameraIntrinsics& k = options_.world.rig.intrinsics;
+void SimNode::PublishMoreRigs(int k, double t, const FlightPathRow& row, const BoomPose& boom,
+                              const ros::Time& stamp) {
+  for (size_t i = 1; i < rigs_.size(); ++i) {
+    const StereoFrame frame = RenderFrame(k, t, row, boom, i);
+    if (options_.measure_visibility) {
+      PublishVisibility(rigs_[i].visibility, world_->MeasureVisibility(frame, *rigs_[i].rig),
+                        stamp);
+    }
+    PublishImages(i, k, frame, stamp);
+  }
+}
+
+void SimNode::PublishImages(size_t rig, int index, const StereoFrame& frame,
+                            const ros::Time& stamp) {
+  const RigPublishers& r = rigs_[rig];
+  const CameraIntrinsics& k = r.rig->intrinsics;
   std_msgs::Header left, right;
   left.stamp = right.stamp = stamp;
   left.seq = right.seq = static_cast<uint32_t>(index);
   // Both in the left optical frame, ROS's stereo convention: the right camera's P (with
   // Tx = -f * baseline) projects points given in the left camera's frame, and image_geometry
   // (hence stereo_image_proc) asserts the frames are equal. The right camera's own pose is the
-  // tf frame stereo_right_optical.
-  left.frame_id = right.frame_id = "stereo_left_optical";
-  const double Tx = -k.fx * options_.world.rig.baseline;
+  // tf frame NAME_right_optical.
+  left.frame_id = right.frame_id = r.left_frame;
+  const double Tx = -k.fx * r.rig->baseline;
   if (const RawCamera* raw_left = world_->raw_left()) {
-    left_pub_.publish(ToImageMsg(frame.left_raw, left),
-                      ToRawCameraInfoMsg(*raw_left, k, 0.0, left));
-    right_pub_.publish(ToImageMsg(frame.right_raw, right),
-                       ToRawCameraInfoMsg(*world_->raw_right(), k, Tx, right));
+    r.left.publish(ToImageMsg(frame.left_raw, left), ToRawCameraInfoMsg(*raw_left, k, 0.0, left));
+    r.right.publish(ToImageMsg(frame.right_raw, right),
+                    ToRawCameraInfoMsg(*world_->raw_right(), k, Tx, right));
   } else {
-    left_pub_.publish(ToImageMsg(frame.left.image, left), ToCameraInfoMsg(k, 0.0, left));
-    right_pub_.publish(ToImageMsg(frame.right.image, right), ToCameraInfoMsg(k, Tx, right));
+    r.left.publish(ToImageMsg(frame.left.image, left), ToCameraInfoMsg(k, 0.0, left));
+    r.right.publish(ToImageMsg(frame.right.image, right), ToCameraInfoMsg(k, Tx, right));
   }
   if (options_.publish_labels) {
-    left_label_pub_.publish(ToImageMsg(frame.left.label, left));
-    right_label_pub_.publish(ToImageMsg(frame.right.label, right));
+    r.left_label.publish(ToImageMsg(frame.left.label, left));
+    r.right_label.publish(ToImageMsg(frame.right.label, right));
   }
 }
 

@@ -2,6 +2,9 @@
 // (ParamReader over a parameter tree: the parameter fuzz target).
 #include <array>
 #include <cmath>
+#include <map>
+#include <regex>
+#include <set>
 #include <string>
 
 #include <aar_ros_common/param_reader.h>
@@ -59,22 +62,79 @@ void LoadModels(aar_ros_common::ParamReader& params, WorldOptions* world) {
   world->boom_visible = params.Get("boom", true);
 }
 
-// The stereo rig: image size, field of view, baseline and mounting.
-StereoRig LoadRig(aar_ros_common::ParamReader& params) {
+// A rig's mount: the keys of config/mounts/*.yaml (a `rigs:` entry may set each of them).
+const char* const kMountKeys[] = {"camera_x",       "camera_y",         "camera_z",
+                                  "camera_yaw_deg", "camera_pitch_deg", "baseline"};
+using Mount = std::map<std::string, double>;
+
+// The stereo rig: image size, field of view, baseline and mounting; its mount into *mount.
+StereoRig LoadRig(aar_ros_common::ParamReader& params, Mount* mount) {
   const int width = params.Get("image_width", 1280);
   const int height = params.Get("image_height", 960);
   const double hfov = params.Get("hfov_deg", 60.0);
-  const double baseline = params.Get("baseline", 0.5);
-  const Eigen::Vector3d mount(params.Get("camera_x", -20.0), params.Get("camera_y", 1.0),
-                              params.Get("camera_z", -3.0));
-  const double yaw = params.Get("camera_yaw_deg", 180.0);
-  const double pitch = params.Get("camera_pitch_deg", 25.0);
+  const double defaults[] = {-20.0, 1.0, -3.0, 180.0, 25.0, 0.5};
+  for (size_t i = 0; i < 6; ++i) (*mount)[kMountKeys[i]] = params.Get(kMountKeys[i], defaults[i]);
   params.Check(width > 0, "image_width", "must be positive");
   params.Check(height > 0, "image_height", "must be positive");
   params.Check(hfov > 0.0 && hfov < 180.0, "hfov_deg", "must be in (0, 180)");
-  params.Check(baseline > 0.0, "baseline", "must be positive");
-  return MakeStereoRig(CameraIntrinsics::FromHorizontalFov(width, height, hfov), baseline, mount,
-                       yaw, pitch);
+  params.Check(mount->at("baseline") > 0.0, "baseline", "must be positive");
+  Mount& m = *mount;
+  return MakeStereoRig(CameraIntrinsics::FromHorizontalFov(width, height, hfov), m["baseline"],
+                       {m["camera_x"], m["camera_y"], m["camera_z"]}, m["camera_yaw_deg"],
+                       m["camera_pitch_deg"]);
+}
+
+// One entry of ~rigs: its name and its mount (the top-level mount where it sets no key).
+NamedRig LoadRigEntry(aar_ros_common::ParamReader& params, XmlRpc::XmlRpcValue& entry,
+                      const StereoRig& first, Mount mount) {
+  const std::string rule =
+      "must be a list of {name: NAME, and any of camera_x, camera_y, camera_z, camera_yaw_deg, "
+      "camera_pitch_deg, baseline}";
+  params.Check(entry.getType() == XmlRpc::XmlRpcValue::TypeStruct && entry.hasMember("name") &&
+                   entry["name"].getType() == XmlRpc::XmlRpcValue::TypeString,
+               "rigs", rule);
+  NamedRig out;
+  out.name = static_cast<std::string>(entry["name"]);
+  static const std::regex name_rule("[A-Za-z][A-Za-z0-9_]*");
+  params.Check(std::regex_match(out.name, name_rule), "rigs",
+               "names a rig '" + out.name + "': a name is a letter, then letters, digits or _");
+  for (auto& [key, value] : entry) {
+    if (key == "name") continue;
+    params.Check(mount.count(key) == 1, "rigs", "rig " + out.name + ": unknown key " + key);
+    const auto type = value.getType();
+    params.Check(type == XmlRpc::XmlRpcValue::TypeDouble || type == XmlRpc::XmlRpcValue::TypeInt,
+                 "rigs", "rig " + out.name + ": " + key + " must be a number");
+    mount[key] =
+        type == XmlRpc::XmlRpcValue::TypeInt ? static_cast<int>(value) : static_cast<double>(value);
+    params.Check(std::isfinite(mount[key]), "rigs", "rig " + out.name + ": " + key + " not finite");
+  }
+  params.Check(mount["baseline"] > 0.0, "rigs", "rig " + out.name + ": baseline must be positive");
+  out.rig = MakeStereoRig(first.intrinsics, mount["baseline"],
+                          {mount["camera_x"], mount["camera_y"], mount["camera_z"]},
+                          mount["camera_yaw_deg"], mount["camera_pitch_deg"]);
+  return out;
+}
+
+// ~rigs (absent: the one rig `stereo` of the top-level keys): the first must be `stereo` (its keys
+// replace the top-level ones), the others are o->more_rigs.
+void LoadRigs(aar_ros_common::ParamReader& params, const Mount& mount, SimNodeOptions* o) {
+  params.Allow("rigs");
+  XmlRpc::XmlRpcValue rigs;
+  if (!params.GetValue("rigs", rigs)) return;
+  params.Check(rigs.getType() == XmlRpc::XmlRpcValue::TypeArray && rigs.size() >= 1, "rigs",
+               "must be a list of rigs, the first named stereo");
+  std::set<std::string> names;
+  for (int i = 0; i < rigs.size(); ++i) {
+    NamedRig rig = LoadRigEntry(params, rigs[i], o->world.rig, mount);
+    params.Check(names.insert(rig.name).second, "rigs", "names rig " + rig.name + " twice");
+    params.Check((i == 0) == (rig.name == "stereo"), "rigs",
+                 "the first rig is stereo (today's topics and frames), and only the first");
+    if (i == 0) {
+      o->world.rig = rig.rig;
+    } else {
+      o->more_rigs.push_back(rig);
+    }
+  }
 }
 
 // Raw cameras: distorted, unrectified images with their calibration (off: rectified pinhole).
@@ -233,7 +293,9 @@ SimNodeOptions LoadSimNodeOptions(aar_ros_common::ParamReader& params) {
   params.Allow("robot_description");  // tolerated: some launch files put it here
   o.flight_path = params.Required("flight_path", "a flight-path CSV");
   LoadModels(params, &o.world);
-  o.world.rig = LoadRig(params);
+  Mount mount;
+  o.world.rig = LoadRig(params, &mount);
+  LoadRigs(params, mount, &o);
   LoadRawCameras(params, &o.world.raw);
   LoadNoiseAndSky(params, &o.world);
   LoadLoop(params, &o);

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <array>
 #include <atomic>
 #include <condition_variable>
 #include <memory>
@@ -8,6 +9,7 @@
 #include <string>
 #include <thread>
 #include <utility>
+#include <vector>
 
 #include <aar_msgs/PoseEstimate.h>
 #include <aar_ros_common/param_reader.h>
@@ -23,14 +25,21 @@
 
 namespace aar_sim {
 
+// A rig beyond the first: rendered every frame and published in its own namespace.
+struct NamedRig {
+  std::string name;  // namespace NAME/{left,right}/..., frames NAME_{left,right}_optical
+  StereoRig rig;     // the world's cameras at its own mount
+};
+
 struct SimNodeOptions {
-  std::string flight_path;        // required: the receiver's path (CSV)
-  WorldOptions world;             // models, rig, renderer, boom visibility
-  double rate = 10.0;             // [Hz] frames per second of path time
-  double start_time = 0.0;        // [s] path time of the first frame
-  int max_frames = 0;             // 0: to the end of the path
-  bool lockstep = false;          // wait for /aar/pose_estimate of each frame before the next
-  double lockstep_timeout = 5.0;  // [s wall] then go on and count a miss
+  std::string flight_path;          // required: the receiver's path (CSV)
+  WorldOptions world;               // models, rig (the first: `stereo`), renderer, boom visibility
+  std::vector<NamedRig> more_rigs;  // ~rigs after `stereo` (default: none)
+  double rate = 10.0;               // [Hz] frames per second of path time
+  double start_time = 0.0;          // [s] path time of the first frame
+  int max_frames = 0;               // 0: to the end of the path
+  bool lockstep = false;            // wait for /aar/pose_estimate of each frame before the next
+  double lockstep_timeout = 5.0;    // [s wall] then go on and count a miss
   // Lockstep: the node whose estimates are the go-ahead (the registration's manager or node;
   // empty: the first publisher heard). Another node linked to the topic, whatever caller id it
   // writes, stops the frame loop (FATAL, naming it): its estimates could not be told apart.
@@ -81,12 +90,21 @@ class SimNode {
   // Loop's steps.
   void WaitToStart() const;  // for both images' subscribers (when asked to), then start_delay
   int FrameCount() const;    // the path's frames from start_time at the rate, at most `frames`
-  StereoFrame RenderFrame(int k, double t, const FlightPathRow& row, const BoomPose& boom);
+  // Rig `rig`'s pair of frame k (0: the world's own rig).
+  StereoFrame RenderFrame(int k, double t, const FlightPathRow& row, const BoomPose& boom,
+                          size_t rig = 0);
   bool WaitForEstimate(int k, const ros::Time& stamp);  // lockstep; false: timed out (warned)
-  // /sim/visibility of the frame (measure_visibility), before its images.
-  void PublishVisibility(const StereoFrame& frame, const ros::Time& stamp);
+  // /sim/visibility of the frame (measure_visibility), before its images; a further rig's on
+  // /sim/NAME/visibility.
+  void PublishVisibility(const ros::Publisher& pub, const std::array<ViewVisibility, 2>& views,
+                         const ros::Time& stamp);
   void PublishFrame(int index, const FlightPathRow& row, const BoomPose& boom,
                     const StereoFrame& frame, const ros::Time& stamp);
+  // A rig's pair, camera infos and labels (rig 0: `stereo`; then options_.more_rigs).
+  void PublishImages(size_t rig, int index, const StereoFrame& frame, const ros::Time& stamp);
+  // Every further rig's frame k, rendered and published (with its visibility).
+  void PublishMoreRigs(int k, double t, const FlightPathRow& row, const BoomPose& boom,
+                       const ros::Time& stamp);
   void OnEstimate(const ros::MessageEvent<aar_msgs::PoseEstimate const>& event);
   // Why estimates cannot be trusted ("" if they can): another node linked to the topic.
   std::string Intrusion(const std::string& caller);
@@ -100,9 +118,15 @@ class SimNode {
   FlightPath path_;
   Turbulence turbulence_;  // over the path's span
   image_transport::ImageTransport it_;
-  image_transport::CameraPublisher left_pub_, right_pub_;
-  image_transport::Publisher left_label_pub_, right_label_pub_;
-  ros::Publisher visibility_pub_;
+  // Per rig (0: `stereo`, then options_.more_rigs): its images, camera infos, labels, visibility.
+  struct RigPublishers {
+    std::string name, left_frame, right_frame;
+    const StereoRig* rig = nullptr;
+    image_transport::CameraPublisher left, right;
+    image_transport::Publisher left_label, right_label;
+    ros::Publisher visibility;
+  };
+  std::vector<RigPublishers> rigs_;
   ros::Publisher joint_pub_, clock_pub_, marker_pub_;
   ros::Subscriber estimate_sub_;
   tf2_ros::TransformBroadcaster tf_;
