@@ -54,6 +54,7 @@ TEST(Sim, StereoPairsCameraInfosAndTruth) {
       60.0);
   ros::WallDuration(0.5).sleep();  // let tf catch up with the last frames
   ASSERT_GE(left.size(), 4u) << "fewer than 4 stereo frames in 60 s";
+  ASSERT_GE(port_left.size(), 4u) << "fewer than 4 pairs of the second rig, port, in 60 s";
 
   std::string path_file;
   ASSERT_TRUE(pnh.getParam("flight_path", path_file));
