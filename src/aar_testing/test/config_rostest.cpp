@@ -144,7 +144,8 @@ TEST(Config, EveryExperimentLoadsIntoEveryNode) {
 }
 
 // Every camera mount in config/mounts/ loads into the simulator over config/sim.yaml and moves
-// only the rig: thesis_share is 5 m further forward and 1 m lower than the default mount.
+// only the rig: thesis_share is 5 m further forward and 1 m lower than the default mount,
+// share_mirror the same on the boom's other side (2 m right).
 TEST(Config, EveryCameraMountLoadsIntoTheSim) {
   const std::string dir = aar_testing::ConfigDir() + "/mounts";
   int mounts = 0;
@@ -161,6 +162,8 @@ TEST(Config, EveryCameraMountLoadsIntoTheSim) {
                                     base.world.rig.T_tanker_left_optical.translation();
       if (name == "thesis_share") {  // EXPECT_* is an if-else inside
         EXPECT_LT((moved - Eigen::Vector3d(5.0, 0.0, -1.0)).norm(), 1e-9);
+      } else if (name == "share_mirror") {
+        EXPECT_LT((moved - Eigen::Vector3d(5.0, -2.0, -1.0)).norm(), 1e-9);
       }
       EXPECT_TRUE(sim.world.rig.T_tanker_left_optical.linear().isApprox(
           base.world.rig.T_tanker_left_optical.linear()));
@@ -168,7 +171,7 @@ TEST(Config, EveryCameraMountLoadsIntoTheSim) {
       ADD_FAILURE() << "mount " << name << ": " << e.what();
     }
   }
-  EXPECT_EQ(mounts, 1);
+  EXPECT_EQ(mounts, 2);
 }
 
 // The turbulence preset loads into the simulator over config/sim.yaml and turns on moderate
