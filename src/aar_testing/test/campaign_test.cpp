@@ -55,9 +55,10 @@ bool WaitFor(const std::string& path, int seconds) {
              .status == 0;
 }
 
-// The 2 x 2 suite both engines fly: at 0.5 Hz, about 25 frames and 10 s a run (2 Hz: 100
-// frames, 25 s; what these tests check does not need more).
-const char* kSuite = "--suite 2 --experiments naive,dynamic --rate 0.5";
+// The 2 x 2 suite both engines fly: at 1.25 Hz, about 65 frames a run (2 Hz: 100; what these
+// tests check does not need more). Not below 1 Hz: frames more than stereo's max_stamp_lead (1 s)
+// apart are dropped as "ahead" when a pair comes before its /clock (seen once at 0.5 Hz).
+const char* kSuite = "--suite 2 --experiments naive,dynamic --rate 1.25";
 
 TEST(Campaign, BadEngineInputIsNamedBeforeAnythingStarts) {
   const std::string out = "/tmp/aar_campaign_bad";
@@ -93,7 +94,7 @@ TEST(Campaign, AnInterruptedCampaignSaysHowToResumeAndResumes) {
   // Interrupted (SIGINT, as Ctrl-C) once the first of its two runs is done, the second flying.
   const std::string first = out + "/approaches/01/naive/run.json";
   auto r = aar_testing::RunCommand(
-      ScriptsRun("--suite 1 --experiments naive,dynamic --rate 0.5 --jobs 1 --out " + out) +
+      ScriptsRun("--suite 1 --experiments naive,dynamic --rate 1.25 --jobs 1 --out " + out) +
       " & pid=$!; for i in $(seq 1 300); do [ -e " + first +
       " ] && break; sleep 1; done; sleep 3; kill -INT $pid; wait $pid");
   EXPECT_EQ(r.status, 1) << r.output;
@@ -107,7 +108,7 @@ TEST(Campaign, AnInterruptedCampaignSaysHowToResumeAndResumes) {
 
   // A new campaign may not write into it.
   r = aar_testing::RunCommand(
-      ScriptsRun("--suite 1 --experiments naive --rate 0.5 --out " + out, 60));
+      ScriptsRun("--suite 1 --experiments naive --rate 1.25 --out " + out, 60));
   EXPECT_EQ(r.status, 2) << r.output;
   EXPECT_NE(r.output.find("holds a campaign already: resume it with scripts/run --resume"),
             std::string::npos)
@@ -331,7 +332,7 @@ TEST(Campaign, ASuiteOnTwoNodesLosesANodeAndNothingElse) {
   r = aar_testing::RunCommand(
       env + ScriptsRun(std::string(kSuite) + " --engine slurm --no-wait --out " + out, 60));
   ASSERT_EQ(r.status, 0) << r.output;
-  // Tasks 0 and 1 fly at once, one a node; 3 s into both (a run there: about 10 s), node 2 dies.
+  // Tasks 0 and 1 fly at once, one a node; 3 s into both (a run there: about 20 s), node 2 dies.
   ASSERT_TRUE(WaitFor(out + "/approaches/01/naive/frames.csv", 120));
   ASSERT_TRUE(WaitFor(out + "/approaches/01/dynamic/frames.csv", 120));
   aar_testing::RunCommand("sleep 3");
@@ -390,7 +391,7 @@ TEST(Campaign, ACancelledSlurmTaskIsNamedThenResumed) {
   r = aar_testing::RunCommand(
       env +
       ScriptsRun(
-          "--suite 1 --experiments naive,dynamic --rate 0.5 --engine slurm --no-wait --out " + out,
+          "--suite 1 --experiments naive,dynamic --rate 1.25 --engine slurm --no-wait --out " + out,
           60));
   ASSERT_EQ(r.status, 0) << r.output;
   // Task 0 (approach 01, naive) cancelled once it flies.
