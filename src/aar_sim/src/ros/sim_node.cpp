@@ -307,27 +307,21 @@ void SimNode::PublishFrame(int index, const FlightPathRow& row, const BoomPose& 
   }
   joint_pub_.publish(joints);
   tf_.sendTransform(ToTransformMsg(row.T_tanker_receiver(), stamp, "tanker", "receiver_truth"));
-  if (options_.measure_visibility) {
-    PublishVisibility(rigs_[0].visibility, world_->MeasureVisibility(frame), stamp);
-  }
   PublishImages(0, index, frame, stamp);
 }
 
 void SimNode::PublishMoreRigs(int k, double t, const FlightPathRow& row, const BoomPose& boom,
                               const ros::Time& stamp) {
-  for (size_t i = 1; i < rigs_.size(); ++i) {
-    const StereoFrame frame = RenderFrame(k, t, row, boom, i);
-    if (options_.measure_visibility) {
-      PublishVisibility(rigs_[i].visibility, world_->MeasureVisibility(frame, *rigs_[i].rig),
-                        stamp);
-    }
-    PublishImages(i, k, frame, stamp);
-  }
+  for (size_t i = 1; i < rigs_.size(); ++i)
+    PublishImages(i, k, RenderFrame(k, t, row, boom, i), stamp);
 }
 
 void SimNode::PublishImages(size_t rig, int index, const StereoFrame& frame,
                             const ros::Time& stamp) {
   const RigPublishers& r = rigs_[rig];
+  if (options_.measure_visibility) {
+    PublishVisibility(r.visibility, world_->MeasureVisibility(frame, *r.rig), stamp);
+  }
   const CameraIntrinsics& k = r.rig->intrinsics;
   std_msgs::Header left, right;
   left.stamp = right.stamp = stamp;

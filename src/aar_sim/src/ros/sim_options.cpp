@@ -67,6 +67,12 @@ const char* const kMountKeys[] = {"camera_x",       "camera_y",         "camera_
                                   "camera_yaw_deg", "camera_pitch_deg", "baseline"};
 using Mount = std::map<std::string, double>;
 
+// The world's cameras at `m`.
+StereoRig RigAt(const CameraIntrinsics& cameras, Mount& m) {
+  return MakeStereoRig(cameras, m["baseline"], {m["camera_x"], m["camera_y"], m["camera_z"]},
+                       m["camera_yaw_deg"], m["camera_pitch_deg"]);
+}
+
 // The stereo rig: image size, field of view, baseline and mounting; its mount into *mount.
 StereoRig LoadRig(aar_ros_common::ParamReader& params, Mount* mount) {
   const int width = params.Get("image_width", 1280);
@@ -78,10 +84,7 @@ StereoRig LoadRig(aar_ros_common::ParamReader& params, Mount* mount) {
   params.Check(height > 0, "image_height", "must be positive");
   params.Check(hfov > 0.0 && hfov < 180.0, "hfov_deg", "must be in (0, 180)");
   params.Check(mount->at("baseline") > 0.0, "baseline", "must be positive");
-  Mount& m = *mount;
-  return MakeStereoRig(CameraIntrinsics::FromHorizontalFov(width, height, hfov), m["baseline"],
-                       {m["camera_x"], m["camera_y"], m["camera_z"]}, m["camera_yaw_deg"],
-                       m["camera_pitch_deg"]);
+  return RigAt(CameraIntrinsics::FromHorizontalFov(width, height, hfov), *mount);
 }
 
 // One entry of ~rigs: its name and its mount (the top-level mount where it sets no key).
@@ -109,9 +112,7 @@ NamedRig LoadRigEntry(aar_ros_common::ParamReader& params, XmlRpc::XmlRpcValue& 
     params.Check(std::isfinite(mount[key]), "rigs", "rig " + out.name + ": " + key + " not finite");
   }
   params.Check(mount["baseline"] > 0.0, "rigs", "rig " + out.name + ": baseline must be positive");
-  out.rig = MakeStereoRig(first.intrinsics, mount["baseline"],
-                          {mount["camera_x"], mount["camera_y"], mount["camera_z"]},
-                          mount["camera_yaw_deg"], mount["camera_pitch_deg"]);
+  out.rig = RigAt(first.intrinsics, mount);
   return out;
 }
 

@@ -100,9 +100,10 @@ class SimNode {
                          const ros::Time& stamp);
   void PublishFrame(int index, const FlightPathRow& row, const BoomPose& boom,
                     const StereoFrame& frame, const ros::Time& stamp);
-  // A rig's pair, camera infos and labels (rig 0: `stereo`; then options_.more_rigs).
+  // A rig's visibility (measure_visibility), then its pair, camera infos and labels (rig 0:
+  // `stereo`; then options_.more_rigs).
   void PublishImages(size_t rig, int index, const StereoFrame& frame, const ros::Time& stamp);
-  // Every further rig's frame k, rendered and published (with its visibility).
+  // Every further rig's frame k, rendered and published.
   void PublishMoreRigs(int k, double t, const FlightPathRow& row, const BoomPose& boom,
                        const ros::Time& stamp);
   void OnEstimate(const ros::MessageEvent<aar_msgs::PoseEstimate const>& event);
