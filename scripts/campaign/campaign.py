@@ -9,11 +9,10 @@ import shutil
 import subprocess
 import sys
 
-from campaign.plan import Run
+from campaign.plan import CHECK_EXPERIMENT, Run
 from campaign.workspace import ROOT, Refused, commit, machine, utc_now, write_file
 
 RECORD = "campaign.json"
-CHECK_EXPERIMENT = os.path.join(ROOT, "src/aar_ros_common/scripts/check_experiment.py")
 
 
 @dataclasses.dataclass

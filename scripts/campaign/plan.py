@@ -2,11 +2,15 @@
 roslaunch command that flies it. Every frame count and timeout of scripts/ comes from here."""
 import csv
 import dataclasses
+import functools
 import os
+import subprocess
+import sys
 
 from campaign.workspace import ROOT, Refused
 
 LAUNCH = os.path.join(ROOT, "launch/pipeline.launch")
+CHECK_EXPERIMENT = os.path.join(ROOT, "src/aar_ros_common/scripts/check_experiment.py")
 # Each lockstep frame waits at most 5 s for its estimate (the simulator's timeout); a run that
 # takes longer than every frame waiting it out, plus start-up, is hung.
 SECONDS_PER_FRAME_LIMIT = 6
@@ -40,12 +44,26 @@ class Run:
                     ("start_time", self.start_time), ("rate", self.rate),
                     ("noise_stddev", self.noise), ("noise_seed", self.noise_seed),
                     ("sim_config", self.sim_config), ("receiver", self.receiver)]
+        rigs = experiment_rigs(self.experiment)
+        optional.append(("rigs", rigs if rigs != "stereo" else ""))
         return args + [f"{k}:={v}" for k, v in optional if v != ""] + list(self.extra)
 
     def command(self, out_dir, port):
         """Bounded in time: SIGINT at the limit, SIGKILL 30 s later."""
         return ["timeout", "--signal=INT", "--kill-after=30", str(self.timeout()),
                 "roslaunch", "-p", str(port), LAUNCH] + self.launch_args(out_dir)
+
+
+@functools.lru_cache(maxsize=None)
+def experiment_rigs(experiment):
+    """The stereo rigs an experiment flies, as pipeline.launch's rigs:= takes them (its sim rigs;
+    check_experiment.py, which the launch runs too, refuses any other)."""
+    path = os.path.join(ROOT, "config/experiments", experiment + ".yaml")
+    found = subprocess.run([sys.executable, CHECK_EXPERIMENT, "--rigs-of", path],
+                           capture_output=True, text=True)
+    if found.returncode != 0:
+        raise Refused(f"experiment '{experiment}' refused:\n{found.stderr.strip()}")
+    return found.stdout.strip()
 
 
 def _top_level_rate(yaml):

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "aar_alignment/boom_parts.h"
@@ -76,6 +77,25 @@ int SearchRanges(const OutlineAligner& aligner, const AlignmentInput& in, const 
   return ranges;
 }
 
+// The images searched, as (image, camera): the first rig's left and every further rig's left
+// (extra views 0, 2, ...); with both_views every image, each rig's left before its right.
+std::vector<std::pair<const cv::Mat*, const PinholeCamera*>> Searched(const AlignmentInput& in,
+                                                                      bool both_views) {
+  std::vector<std::pair<const cv::Mat*, const PinholeCamera*>> images = {
+      {&in.left, &in.left_camera}};
+  if (both_views) images.push_back({&in.right, &in.right_camera});
+  for (size_t i = 0; i < in.extra_views.size(); ++i)
+    if (both_views || i % 2 == 0)
+      images.push_back({&in.extra_views[i].image, &in.extra_views[i].camera});
+  return images;
+}
+
+// The images searched, in words (an error's).
+std::string SearchedWords(const AlignmentInput& in, bool both_views) {
+  if (in.extra_views.empty()) return both_views ? "either image" : "the left image";
+  return both_views ? "any image" : "any rig's left image";
+}
+
 double MsSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
       .count();
@@ -87,9 +107,18 @@ double SeenShare(const AcquisitionOptions& o, const AlignmentResult& r) {
   auto share = [](int lines, int outline) {
     return outline > 0 ? static_cast<double>(lines) / outline : 0.0;
   };
-  if (!o.both_views) return share(r.lines, r.outline_lines);
-  return std::max(share(r.view_lines[0], r.view_outline_lines[0]),
-                  share(r.view_lines[1], r.view_outline_lines[1]));
+  const size_t views = std::min(r.view_lines.size(), r.view_outline_lines.size());
+  // One rig (or no views): both views' lines together, as the totals count them.
+  if (!o.both_views && views <= 2) return share(r.lines, r.outline_lines);
+  double best = 0.0;
+  const size_t step = o.both_views ? 1 : 2;  // per view, or per rig (its left and right)
+  for (size_t v = 0; v + step <= views; v += step) {
+    const int lines = o.both_views ? r.view_lines[v] : r.view_lines[v] + r.view_lines[v + 1];
+    const int outline = o.both_views ? r.view_outline_lines[v]
+                                     : r.view_outline_lines[v] + r.view_outline_lines[v + 1];
+    best = std::max(best, share(lines, outline));
+  }
+  return best;
 }
 
 void AcquisitionOptions::Validate() const {
@@ -111,14 +140,13 @@ AcquisitionResult Acquire(const OutlineAligner& aligner, const AlignmentInput& i
   out.error = CheckAlignmentInput(in);
   if (!out.error.empty()) return out;
   std::vector<Placement> placements;
-  out.ranges = SearchRanges(aligner, in, in.left, in.left_camera, o, placements);
-  if (o.both_views)
-    out.ranges += SearchRanges(aligner, in, in.right, in.right_camera, o, placements);
+  for (const auto& [image, camera] : Searched(in, o.both_views))
+    out.ranges += SearchRanges(aligner, in, *image, *camera, o, placements);
   if (placements.empty()) {
     out.error =
         out.ranges == 0
-            ? std::string("the silhouette fits ") + (o.both_views ? "either" : "the left") +
-                  " image at none of the ranges searched"
+            ? "the silhouette fits " + SearchedWords(in, o.both_views) +
+                  " at none of the ranges searched"
             : "where the silhouette fits best, less than min_visible of its outline is seen";
     out.time_ms = MsSince(start);
     return out;

@@ -55,18 +55,20 @@ struct Pass {
   Matrix6d H = Matrix6d::Zero();
   Vector6d g = Vector6d::Zero();
   int usable = 0;
-  std::array<int, 2> view_usable{};  // per view
-  double fit = 0.0;                  // sum over usable lines of Line::fit
+  std::vector<int> view_usable;  // per view
+  double fit = 0.0;              // sum over usable lines of Line::fit
   int inliers = 0;
 };
 
 // Lines through the outline points at the pose, their statistics and the Gauss-Newton system.
-// `expected` holds each contour point's smoothed profile (Line::expected).
+// `expected` holds each contour point's smoothed profile (Line::expected). Every sum runs over
+// the views in order, so views appended after the first rig's leave its figures as they were.
 using Expectations = std::vector<std::vector<std::vector<float>>>;  // [view][point][pixel]
 Pass Evaluate(const AlignmentOptions& o, const std::vector<View>& views,
               const std::vector<std::vector<ContourPoint>>& contours, const Expectations& expected,
               const Eigen::Matrix3d& R, const Eigen::Vector3d& p, double scale) {
   Pass pass;
+  pass.view_usable.assign(views.size(), 0);
   const LineShape shape(o, scale);
   for (size_t v = 0; v < views.size(); ++v) {
     const Eigen::Isometry3d T = views[v].T_optical_tanker;
@@ -118,21 +120,30 @@ Matrix6d PriorInformation(const AlignmentOptions& o, const Matrix6d& covariance)
   return d.asDiagonal();
 }
 
+// What is wrong with one view's image or camera, `name` the view's ("left"); empty when nothing.
+std::string CheckView(const std::string& name, const cv::Mat& m, const PinholeCamera& c) {
+  if (m.empty()) return "the " + name + " image is empty";
+  if (m.type() != CV_8UC1) return "the " + name + " image is not mono8";
+  if (!(c.fx > 0.0 && c.fy > 0.0) || c.width < 2 || c.height < 2)
+    return "the " + name + " camera has no size or focal length";
+  if (m.cols != c.width || m.rows != c.height)
+    return "the " + name + " image's size differs from its camera's";
+  return "";
+}
+
 }  // namespace
 
 std::string CheckAlignmentInput(const AlignmentInput& in) {
-  const std::pair<const cv::Mat*, const PinholeCamera*> views[] = {{&in.left, &in.left_camera},
-                                                                   {&in.right, &in.right_camera}};
-  for (int i = 0; i < 2; ++i) {
-    const char* name = i == 0 ? "left" : "right";
-    const cv::Mat& m = *views[i].first;
-    const PinholeCamera& c = *views[i].second;
-    if (m.empty()) return std::string("the ") + name + " image is empty";
-    if (m.type() != CV_8UC1) return std::string("the ") + name + " image is not mono8";
-    if (!(c.fx > 0.0 && c.fy > 0.0) || c.width < 2 || c.height < 2)
-      return std::string("the ") + name + " camera has no size or focal length";
-    if (m.cols != c.width || m.rows != c.height)
-      return std::string("the ") + name + " image's size differs from its camera's";
+  std::string error = CheckView("left", in.left, in.left_camera);
+  if (error.empty()) error = CheckView("right", in.right, in.right_camera);
+  if (!error.empty()) return error;
+  if (in.extra_views.size() % 2 != 0)
+    return "extra_views holds " + std::to_string(in.extra_views.size()) +
+           " views, not a left and a right per further rig";
+  for (size_t i = 0; i < in.extra_views.size(); ++i) {
+    const aar_alignment::View& v = in.extra_views[i];  // the input's, not line_model::View
+    error = CheckView("extra_views[" + std::to_string(i) + "]", v.image, v.camera);
+    if (!error.empty()) return error;
   }
   if (!in.T_tanker_receiver_predicted.matrix().allFinite())
     return "the predicted pose is not finite";
@@ -181,19 +192,17 @@ OutlineAligner::OutlineAligner(const aar_geometry::TriangleMesh& receiver,
   options_.Validate();
 }
 
-// The state of one alignment: both views, the pose and the outline at it.
+// The state of one alignment: every view (the first rig's left and right, then the extra views),
+// the pose and the outline at it.
 class OutlineAligner::Run {
  public:
   Run(const OutlineAligner& aligner, const AlignmentInput& in)
-      : o_(aligner.options_), model_(aligner.model_), in_(in), views_(2) {
-    const cv::Mat* images[] = {&in.left, &in.right};
-    const PinholeCamera* cameras[] = {&in.left_camera, &in.right_camera};
-    for (int i = 0; i < 2; ++i) {
-      views_[i].image = images[i];
-      views_[i].camera = cameras[i];
-      views_[i].T_optical_tanker = cameras[i]->T_tanker_optical.inverse();
-      views_[i].boom = BoomMask(*cameras[i], in.boom_parts_in_tanker, o_.boom_margin_px);
-    }
+      : o_(aligner.options_), model_(aligner.model_), in_(in) {
+    AddView(in.left, in.left_camera);
+    AddView(in.right, in.right_camera);
+    for (const aar_alignment::View& v : in.extra_views) AddView(v.image, v.camera);
+    contours_.resize(views_.size());
+    expected_.resize(views_.size());
     R_ = R0_ = in.T_tanker_receiver_predicted.linear();
     p_ = p0_ = in.T_tanker_receiver_predicted.translation();
     prior_ = PriorInformation(o_, in.prediction_covariance);
@@ -214,10 +223,10 @@ class OutlineAligner::Run {
     return T;
   }
 
-  // The outline at the current pose in both views; false when there is none.
+  // The outline at the current pose in every view; false when there is none.
   bool Outline() {
     size_t points = 0;
-    for (int i = 0; i < 2; ++i) {
+    for (size_t i = 0; i < views_.size(); ++i) {
       contours_[i] = model_.Contour(*views_[i].camera, Pose(), o_.contour_points, profile_half_,
                                     o_.mask_size, o_.mask_max_scale);
       points += contours_[i].size();
@@ -296,10 +305,12 @@ class OutlineAligner::Run {
   // The result's figures from a pass at the current pose.
   void Finish(const Pass& last, AlignmentResult& out) const {
     out.lines = last.usable;
-    out.outline_lines = static_cast<int>(contours_[0].size() + contours_[1].size());
     out.view_lines = last.view_usable;
-    out.view_outline_lines = {static_cast<int>(contours_[0].size()),
-                              static_cast<int>(contours_[1].size())};
+    out.view_outline_lines.clear();
+    for (const std::vector<ContourPoint>& contour : contours_)
+      out.view_outline_lines.push_back(static_cast<int>(contour.size()));
+    out.outline_lines =
+        std::accumulate(out.view_outline_lines.begin(), out.view_outline_lines.end(), 0);
     out.information = last.H / o_.covariance_scale;
     out.covariance = (out.information + prior_).inverse();
     out.covariance = 0.5 * (out.covariance + out.covariance.transpose()).eval();
@@ -309,17 +320,27 @@ class OutlineAligner::Run {
   }
 
  private:
+  // One view as the stages see it: its boom mask and the camera's inverse pose.
+  void AddView(const cv::Mat& image, const PinholeCamera& camera) {
+    line_model::View v;
+    v.image = &image;
+    v.camera = &camera;
+    v.T_optical_tanker = camera.T_tanker_optical.inverse();
+    v.boom = BoomMask(camera, in_.boom_parts_in_tanker, o_.boom_margin_px);
+    views_.push_back(std::move(v));
+  }
+
   const AlignmentOptions& o_;
   const OutlineModel& model_;
   const AlignmentInput& in_;
-  std::vector<View> views_;
+  std::vector<line_model::View> views_;  // left, right, then the extra views
   Eigen::Matrix3d R_, R0_;
   Eigen::Vector3d p_, p0_;
   Matrix6d prior_;
   int profile_half_ = 0;
-  double radius_ = 0.0;  // [m] of the mesh about the receiver's origin
-  std::vector<std::vector<ContourPoint>> contours_{2};
-  Expectations expected_{2};  // of contours_
+  double radius_ = 0.0;                              // [m] of the mesh about the receiver's origin
+  std::vector<std::vector<ContourPoint>> contours_;  // per view
+  Expectations expected_;                            // of contours_
 };
 
 namespace {
@@ -335,7 +356,7 @@ double MsSince(std::chrono::steady_clock::time_point start) {
 }
 
 constexpr const char* kNoOutline =
-    "the receiver at the pose has no outline in either image (behind a camera?)";
+    "the receiver at the pose has no outline in any image (behind a camera?)";
 
 }  // namespace
 

@@ -65,6 +65,26 @@ cv::Mat Draw(const OutlineModel& model, const PinholeCamera& camera, const Eigen
   return image;
 }
 
+// A second rig (issue 44) like the first, 5 m forward, 2 m to its right and 1 m down
+// (config/mounts/share_mirror.yaml's place).
+PinholeCamera SecondRigCamera(double x_offset) {
+  PinholeCamera c = Camera(x_offset);
+  c.T_tanker_optical.translation() += Eigen::Vector3d(5.0, -2.0, -1.0);
+  return c;
+}
+
+// A box, `half` [m] each way, 4 m from the first rig (between its cameras) on the way to
+// `receiver`: the boom close to the cameras, hiding the receiver from both.
+std::vector<Eigen::Vector3d> BoomBeforeTheFirstRig(const Eigen::Vector3d& receiver, double half) {
+  const Eigen::Vector3d eye = 0.5 * (Camera(0.0).T_tanker_optical.translation() +
+                                     Camera(0.5).T_tanker_optical.translation());
+  const Eigen::Vector3d near = eye + 4.0 * (receiver - eye).normalized();
+  std::vector<Eigen::Vector3d> box;
+  for (int k = 0; k < 8; ++k)
+    box.push_back(near + half * Eigen::Vector3d(k & 1 ? 1 : -1, k & 2 ? 1 : -1, k & 4 ? 1 : -1));
+  return box;
+}
+
 Eigen::Isometry3d At(double range) {
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
   T.translation() = Eigen::Vector3d(-range, 0.0, -0.3 * range);
@@ -91,6 +111,14 @@ Eigen::Isometry3d Perturbed(const Eigen::Isometry3d& T, const Eigen::Vector3d& d
   out.linear() =
       Eigen::AngleAxisd(dtheta.norm(), dtheta.normalized()).toRotationMatrix() * T.linear();
   return out;
+}
+
+// [m] of `estimate`'s error along `camera`'s line of sight to `truth`, and across it.
+Eigen::Vector2d AlongAndAcross(const Eigen::Vector3d& estimate, const Eigen::Vector3d& truth,
+                               const PinholeCamera& camera) {
+  const Eigen::Vector3d u = (truth - camera.T_tanker_optical.translation()).normalized();
+  const Eigen::Vector3d e = estimate - truth;
+  return {e.dot(u), (e - e.dot(u) * u).norm()};
 }
 
 double AngleDeg(const Eigen::Matrix3d& a, const Eigen::Matrix3d& b) {
@@ -163,6 +191,70 @@ TEST(OutlineAligner, ScoreTellsAWrongPoseFromTheTruth) {
   EXPECT_GT(right, 0.9);
   EXPECT_LT(wrong, 0.2);
   EXPECT_LT(short_start, 0.2);
+}
+
+// Issue 44: the boom 4 m from the first rig hides the receiver from both its cameras, so that rig
+// alone aligns nothing; a second rig's images (extra views) align it.
+TEST(OutlineAligner, ASecondRigAlignsWhereTheBoomHidesTheFirst) {
+  Scene scene(150.0);
+  scene.in.boom_parts_in_tanker = {BoomBeforeTheFirstRig(scene.truth.translation(), 0.75)};
+  scene.in.T_tanker_receiver_predicted =
+      Perturbed(scene.truth, Eigen::Vector3d(1.2, -1.0, 1.0), Eigen::Vector3d(0.02, -0.03, 0.03));
+  const OutlineAligner aligner(scene.model.mesh());
+  const AlignmentResult one = aligner.Align(scene.in);
+  std::printf("[ one rig, boom ] %s\n", one.valid ? "aligned" : one.error.c_str());
+  EXPECT_FALSE(one.valid);  // measured: only 0 usable outline lines at scale 4 px
+  AlignmentInput two = scene.in;
+  for (const double x : {0.0, 0.5}) {
+    const PinholeCamera c = SecondRigCamera(x);
+    two.extra_views.push_back({Draw(scene.model, c, scene.truth, 3.0, x == 0.0 ? 5 : 6), c});
+  }
+  const AlignmentResult r = aligner.Align(two);
+  ASSERT_TRUE(r.valid) << r.error;
+  ASSERT_EQ(r.view_lines.size(), 4u);
+  ASSERT_EQ(r.view_outline_lines.size(), 4u);
+  const Eigen::Vector2d e = AlongAndAcross(r.T_tanker_receiver.translation(),
+                                           scene.truth.translation(), two.extra_views[0].camera);
+  const double angle = AngleDeg(r.T_tanker_receiver.linear(), scene.truth.linear());
+  std::printf(
+      "[ two rigs, boom ] %.3f m along the second rig's line of sight, %.3f m across, "
+      "%.3f deg, quality %.2f, lines per view %d %d %d %d of %d %d %d %d\n",
+      e.x(), e.y(), angle, r.quality, r.view_lines[0], r.view_lines[1], r.view_lines[2],
+      r.view_lines[3], r.view_outline_lines[0], r.view_outline_lines[1], r.view_outline_lines[2],
+      r.view_outline_lines[3]);
+  // Measured: 0.616 m along (where the outline's sigma at 140 m is 0.31 m), 0.008 m across,
+  // 0.328 deg, quality 1.00; lines 0 0 200 201 of 200 200 200 201.
+  EXPECT_EQ(r.view_lines[0] + r.view_lines[1], 0);
+  EXPECT_GT(r.view_lines[2], 0.9 * r.view_outline_lines[2]);
+  EXPECT_GT(r.view_lines[3], 0.9 * r.view_outline_lines[3]);
+  EXPECT_LT(std::abs(e.x()), 0.7);
+  EXPECT_LT(e.y(), 0.02);
+  EXPECT_LT(angle, 0.35);
+  EXPECT_GT(r.quality, 0.9);
+}
+
+// A second rig that is a copy of the first (same cameras, same images) counts its lines twice:
+// each of its views sees what the first rig's does, and the pose is as good.
+TEST(OutlineAligner, ASecondRigCopyingTheFirstStillAligns) {
+  Scene scene(150.0);
+  scene.in.T_tanker_receiver_predicted =
+      Perturbed(scene.truth, Eigen::Vector3d(1.2, -1.0, 1.0), Eigen::Vector3d(0.02, -0.03, 0.03));
+  scene.in.extra_views = {{scene.in.left, scene.in.left_camera},
+                          {scene.in.right, scene.in.right_camera}};
+  const OutlineAligner aligner(scene.model.mesh());
+  const AlignmentResult r = aligner.Align(scene.in);
+  ASSERT_TRUE(r.valid) << r.error;
+  ASSERT_EQ(r.view_lines.size(), 4u);
+  const double position = (r.T_tanker_receiver.translation() - scene.truth.translation()).norm();
+  std::printf("[ a copied rig ] %.3f m, quality %.2f, %d lines of %d\n", position, r.quality,
+              r.lines, r.outline_lines);
+  // Measured: 0.104 m (one rig: 0.092 m), quality 1.00, 800 lines of 800.
+  EXPECT_EQ(r.view_lines[2], r.view_lines[0]);
+  EXPECT_EQ(r.view_lines[3], r.view_lines[1]);
+  EXPECT_EQ(r.view_outline_lines[2], r.view_outline_lines[0]);
+  EXPECT_EQ(r.outline_lines, 2 * (r.view_outline_lines[0] + r.view_outline_lines[1]));
+  EXPECT_LT(position, 0.15);
+  EXPECT_GT(r.quality, 0.9);
 }
 
 TEST(ShiftSearch, FindsTheSilhouetteAcrossTheLineOfSight) {
@@ -261,6 +353,69 @@ TEST(Acquire, BothViewsStartWhereTheBoomHidesTheReceiverFromOneCamera) {
   EXPECT_LT(position, 0.1);  // measured 0.066 m
 }
 
+// Issue 44: the boom 4 m from the first rig hides the receiver from both its cameras, so neither
+// its left image nor both its images start anything; the second rig's left image does.
+TEST(Acquire, StartsFromASecondRig) {
+  Scene scene(150.0);
+  scene.truth = Perturbed(At(150.0), {0.0, 3.0, 2.0}, {0.0, 0.0, 0.0});
+  scene.in.left = Draw(scene.model, scene.in.left_camera, scene.truth, 3.0, 3);
+  scene.in.right = Draw(scene.model, scene.in.right_camera, scene.truth, 3.0, 4);
+  scene.in.T_tanker_receiver_predicted = Perturbed(At(100.0), {0, 0, 0}, {0.01, 0.02, -0.02});
+  scene.in.boom_parts_in_tanker = {BoomBeforeTheFirstRig(scene.truth.translation(), 0.75)};
+  const OutlineAligner aligner(scene.model.mesh());
+  AcquisitionOptions both;
+  both.both_views = true;
+  for (const AcquisitionOptions& o : {AcquisitionOptions(), both}) {
+    const AcquisitionResult one = Acquire(aligner, scene.in, o);
+    std::printf("[ acquire, one rig%s ] %s: fit %.2f\n", o.both_views ? ", both views" : "",
+                one.valid ? "aligned" : one.error.c_str(), one.alignment.quality);
+    EXPECT_FALSE(one.valid && one.alignment.quality > 0.2);  // measured: fit 0.05 both ways
+  }
+  for (const double x : {0.0, 0.5}) {
+    const PinholeCamera c = SecondRigCamera(x);
+    scene.in.extra_views.push_back({Draw(scene.model, c, scene.truth, 3.0, x == 0.0 ? 7 : 8), c});
+  }
+  const AcquisitionResult r = Acquire(aligner, scene.in);  // each rig's left image
+  ASSERT_TRUE(r.valid) << r.error;
+  ASSERT_EQ(r.alignment.view_lines.size(), 4u);
+  const Eigen::Vector2d e =
+      AlongAndAcross(r.alignment.T_tanker_receiver.translation(), scene.truth.translation(),
+                     scene.in.extra_views[0].camera);
+  std::printf(
+      "[ acquire, two rigs ] %.3f m along the second rig's line of sight, %.3f m across, fit "
+      "%.2f, from range %.0f m, lines per view %d %d %d %d of %d %d %d %d, seen %.2f\n",
+      e.x(), e.y(), r.alignment.quality, r.range_m, r.alignment.view_lines[0],
+      r.alignment.view_lines[1], r.alignment.view_lines[2], r.alignment.view_lines[3],
+      r.alignment.view_outline_lines[0], r.alignment.view_outline_lines[1],
+      r.alignment.view_outline_lines[2], r.alignment.view_outline_lines[3],
+      SeenShare(AcquisitionOptions(), r.alignment));
+  // Measured: 0.565 m along, 0.030 m across, fit 1.00, from 153 m; lines 0 0 200 200 of
+  // 201 201 200 200, seen 1.00.
+  EXPECT_EQ(r.alignment.view_lines[0] + r.alignment.view_lines[1], 0);
+  EXPECT_GT(SeenShare(AcquisitionOptions(), r.alignment), 0.9);  // the second rig's share
+  EXPECT_GT(r.alignment.quality, 0.95);
+  EXPECT_LT(std::abs(e.x()), 0.7);
+  EXPECT_LT(e.y(), 0.05);
+}
+
+// SeenShare per rig and per view: four views whose rigs see 50 % and 90 % of their outlines.
+TEST(Acquire, SeenShareIsTheBestRigsOrWithBothViewsTheBestViews) {
+  AlignmentResult r;
+  r.view_lines = {100, 0, 90, 90};
+  r.view_outline_lines = {100, 100, 100, 100};
+  r.lines = 280, r.outline_lines = 400;
+  AcquisitionOptions o;
+  EXPECT_DOUBLE_EQ(SeenShare(o, r), 0.9);  // the second rig's two views together
+  o.both_views = true;
+  EXPECT_DOUBLE_EQ(SeenShare(o, r), 1.0);  // the first rig's left view
+  // One rig: its two views' lines together (the totals), or the better view.
+  r.view_lines = {100, 0}, r.view_outline_lines = {100, 100};
+  r.lines = 100, r.outline_lines = 200;
+  EXPECT_DOUBLE_EQ(SeenShare(o, r), 1.0);
+  o.both_views = false;
+  EXPECT_DOUBLE_EQ(SeenShare(o, r), 0.5);
+}
+
 TEST(Acquire, OutOfRangeOptionsAreRefusedNamingTheField) {
   const std::vector<std::pair<std::string, std::function<void(AcquisitionOptions&)>>> bad = {
       {"min_range", [](AcquisitionOptions& o) { o.min_range = 0.0; }},
@@ -295,6 +450,21 @@ TEST(OutlineAligner, BadInputIsRefusedNamingWhatIsWrong) {
   in = scene.in;
   in.left_camera.width = 640;
   EXPECT_EQ(aligner.Align(in).error, "the left image's size differs from its camera's");
+  // Extra views: a left and a right per further rig, each checked as the first rig's, named by
+  // its index.
+  in = scene.in;
+  in.extra_views = {{scene.in.left, scene.in.left_camera}};
+  EXPECT_EQ(aligner.Align(in).error,
+            "extra_views holds 1 views, not a left and a right per further rig");
+  in.extra_views.push_back({cv::Mat(), scene.in.right_camera});
+  EXPECT_EQ(aligner.Align(in).error, "the extra_views[1] image is empty");
+  in.extra_views[1].image = cv::Mat(960, 1280, CV_8UC3);
+  EXPECT_EQ(aligner.Align(in).error, "the extra_views[1] image is not mono8");
+  in.extra_views[1].image = scene.in.right;
+  in.extra_views[0].camera.height = 480;
+  EXPECT_EQ(aligner.Align(in).error, "the extra_views[0] image's size differs from its camera's");
+  in.extra_views[0].camera.fx = 0.0;
+  EXPECT_EQ(aligner.Align(in).error, "the extra_views[0] camera has no size or focal length");
   in = scene.in;
   in.T_tanker_receiver_predicted = At(-30.0);  // behind the cameras
   const AlignmentResult behind = aligner.Align(in);

@@ -68,7 +68,9 @@ LedgerEntry ClassifyFrame(const Estimate* estimate, const std::vector<StageOutco
 }
 
 bool IsFinal(const StageOutcome& outcome) {
-  return outcome.dropped && outcome.stage != "registration";
+  // A further rig's drop (RIG/stereo) leaves the frame to registration, which has the others.
+  return outcome.dropped && outcome.stage != "registration" &&
+         outcome.stage.find('/') == std::string::npos;
 }
 
 std::string LedgerCsvHeader() { return "t,stamp,outcome,stage,reason,detail"; }

@@ -200,6 +200,9 @@ TEST(Ledger, EachFrameHasOneOutcomeNamingTheStageAndReason) {
   EXPECT_FALSE(IsFinal({"registration", true, "no_pose", ""}));
   EXPECT_TRUE(IsFinal({"stereo", true, "sync_mismatch", ""}));
   EXPECT_FALSE(IsFinal({"stereo", false, "", ""}));
+  // A further rig's drop leaves the frame to registration, which has the other rigs.
+  EXPECT_FALSE(IsFinal({"share_mirror/stereo", true, "sync_mismatch", ""}));
+  EXPECT_FALSE(IsFinal({"share_mirror/occlusion", true, "error", ""}));
   LedgerEntry row{1500000000, 0.5, "dropped", "stereo", "sync_mismatch", "a \"quoted\", b"};
   EXPECT_EQ(LedgerCsvRow(row),
             "0.5,1.500000000,dropped,stereo,sync_mismatch,\"a \"\"quoted\"\", b\"");

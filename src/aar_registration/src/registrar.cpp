@@ -272,12 +272,17 @@ void Registrar::AssessIntegrity(RegistrarResult& out) {
 
 namespace {
 
-// The frame's images, cameras and boom, with `T` as the prediction.
+// The frame's images (every rig's: the further rigs' as extra views, each left then right),
+// cameras and boom, with `T` as the prediction.
 aar_alignment::AlignmentInput AlignmentInputOf(const OutlineFrame& frame,
                                                const Eigen::Isometry3d& T) {
   aar_alignment::AlignmentInput in;
   in.left = frame.left, in.right = frame.right;
   in.left_camera = frame.left_camera, in.right_camera = frame.right_camera;
+  for (const RigImages& rig : frame.more_rigs) {
+    in.extra_views.push_back({rig.left, rig.left_camera});
+    in.extra_views.push_back({rig.right, rig.right_camera});
+  }
   in.boom_parts_in_tanker = frame.boom_parts_in_tanker;
   in.T_tanker_receiver_predicted = T;
   return in;

@@ -24,6 +24,7 @@ Matrix6d Registrar::IcpCovariance(const RegistrarResult& out, const OutlineFrame
   Matrix6d covariance = CovarianceInTanker(out.icp.covariance, out.T_tanker_receiver_registered);
   const double sigma_d = options_.outline.disparity_sigma;
   if (!frame || !(sigma_d > 0.0)) return covariance;
+  // The first rig's (stereo's points are its): further rigs are a few metres from it.
   const aar_alignment::PinholeCamera& left = frame->left_camera;
   const double baseline = frame->baseline();
   const Eigen::Vector3d ray =
@@ -87,6 +88,7 @@ Matrix6d PersistentSizeCovariance(double range_m, const Eigen::Vector3d& u, doub
 Matrix6d Registrar::PersistentCovariance(const Eigen::Isometry3d& T,
                                          const OutlineFrame* frame) const {
   if (!frame) return Matrix6d::Zero();
+  // From the first rig's left camera: further rigs are a few metres from it, the range far more.
   const Eigen::Vector3d ray = T.translation() - frame->left_camera.T_tanker_optical.translation();
   const double z = ray.norm();
   if (!(z > 0.0)) return Matrix6d::Zero();

@@ -20,6 +20,7 @@ bool Registrar::ConfirmsNewTrack(const std::vector<Eigen::Vector3d>& sensed,
   options.sigmas = o.partial_range_sigmas;
   options.disparity_sigma = o.disparity_sigma;
   options.min_points = o.partial_range_min_points;
+  // Stereo's points are the first rig's, so its cameras check them (OutlineFrame::more_rigs).
   const RangeCheck check =
       CheckRange(sensed, aligner_->model(), frame->left_camera, frame->baseline(),
                  frame->boom_parts_in_tanker, out.track.filtered.T_tanker_receiver, options);

@@ -409,6 +409,106 @@ TEST(Registrar, RefusesOptionsThatCannotWork) {
   }
 }
 
+// A rig's camera as aar_alignment's tests place the default rig (20 m aft of the tanker origin,
+// looking aft 25 deg down), moved by `offset` [m] in the tanker frame.
+aar_alignment::PinholeCamera RigCamera(const Eigen::Vector3d& offset, double x_offset) {
+  aar_alignment::PinholeCamera c;
+  c.width = 1280, c.height = 960, c.fx = c.fy = 1108.5, c.cx = 639.5, c.cy = 479.5;
+  const Eigen::Matrix3d R_tanker_view =
+      (Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitZ()) *
+       Eigen::AngleAxisd(25.0 * M_PI / 180.0, Eigen::Vector3d::UnitY()))
+          .toRotationMatrix();
+  Eigen::Matrix3d R_view_optical;  // optical z forward, x right, y down
+  R_view_optical << 0, 0, 1, -1, 0, 0, 0, -1, 0;
+  c.T_tanker_optical.linear() = R_tanker_view * R_view_optical;
+  c.T_tanker_optical.translation() = Eigen::Vector3d(-20.0, 1.0, -3.0) + offset +
+                                     c.T_tanker_optical.linear() * Eigen::Vector3d(x_offset, 0, 0);
+  return c;
+}
+
+// The receiver at `truth` drawn into `camera`'s image: grey 90 on sky 180 by each pixel's
+// coverage (4 x 4 samples of its silhouette), Gaussian noise of 3 grey levels.
+cv::Mat Draw(const aar_alignment::OutlineModel& model, const aar_alignment::PinholeCamera& camera,
+             const Eigen::Isometry3d& truth, unsigned seed) {
+  const aar_alignment::SilhouetteMask mask = model.Silhouette(camera, truth, 16000, 4.0);
+  cv::Mat image(camera.height, camera.width, CV_8U);
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> gauss(0.0, 3.0);
+  for (int y = 0; y < image.rows; ++y) {
+    for (int x = 0; x < image.cols; ++x) {
+      int covered = 0;
+      for (int k = 0; k < 16; ++k)
+        covered += mask.At(Eigen::Vector2d(x - 0.375 + 0.25 * (k % 4), y - 0.375 + 0.25 * (k / 4)));
+      image.at<uint8_t>(y, x) =
+          cv::saturate_cast<uint8_t>(180.0 - 90.0 * covered / 16.0 + gauss(rng));
+    }
+  }
+  return image;
+}
+
+// Issue 44: far out, the boom 4 m from the first rig hides the receiver from both its cameras,
+// and stereo (the first rig's) has no points: only a start from the images can begin a track. The
+// first rig's images alone refuse it; with a second rig in OutlineFrame::more_rigs (5 m forward,
+// 2 m right, 1 m down: config/mounts/share_mirror.yaml) its images start it.
+TEST(Registrar, AnImageStartThroughASecondRigWhereTheBoomHidesTheFirst) {
+  const Eigen::Isometry3d nominal =
+      aar_geometry::MakeTransform({-35.0, 0.0, -10.0}, {0.0, -0.035, 0.0});
+  Eigen::Isometry3d truth = nominal;
+  truth.translation() = Eigen::Vector3d(-120.0, 3.0, -38.0);
+  const aar_alignment::OutlineModel model(Receiver());
+  OutlineFrame frame;
+  frame.left_camera = RigCamera(Eigen::Vector3d::Zero(), 0.0);
+  frame.right_camera = RigCamera(Eigen::Vector3d::Zero(), 0.5);
+  frame.left = Draw(model, frame.left_camera, truth, 1);
+  frame.right = Draw(model, frame.right_camera, truth, 2);
+  const Eigen::Vector3d eye = 0.5 * (frame.left_camera.T_tanker_optical.translation() +
+                                     frame.right_camera.T_tanker_optical.translation());
+  const Eigen::Vector3d near = eye + 4.0 * (truth.translation() - eye).normalized();
+  std::vector<Eigen::Vector3d> boom;  // a 1.5 m cube
+  for (int k = 0; k < 8; ++k)
+    boom.push_back(near + 0.75 * Eigen::Vector3d(k & 1 ? 1 : -1, k & 2 ? 1 : -1, k & 4 ? 1 : -1));
+  frame.boom_parts_in_tanker = {boom};
+  RigImages second;
+  second.left_camera = RigCamera({5.0, -2.0, -1.0}, 0.0);
+  second.right_camera = RigCamera({5.0, -2.0, -1.0}, 0.5);
+  second.left = Draw(model, second.left_camera, truth, 3);
+  second.right = Draw(model, second.right_camera, truth, 4);
+  for (const bool two_rigs : {false, true}) {
+    RegistrarOptions options = TrackingOptions();
+    options.reference = ReferenceKind::kDense;
+    options.T_tanker_receiver_nominal = nominal;
+    options.outline.enabled = true;
+    options.outline.image_start = true;
+    Registrar registrar(options);
+    registrar.BuildStaticReference(Receiver(), {});
+    registrar.SetOutlineModel(Receiver());
+    frame.more_rigs.clear();
+    if (two_rigs) frame.more_rigs.push_back(second);
+    const RegistrarResult r = registrar.Register({}, 1.0, &frame);  // stereo: nothing
+    const double off = (r.T_tanker_receiver.translation() - truth.translation()).norm();
+    std::printf("[ %s ] %s, %s: %.3f m off, fit %.2f, lines per view",
+                two_rigs ? "two rigs" : "one rig", ToString(r.track.outcome),
+                r.valid ? "valid" : r.error.c_str(), off, r.outline.quality);
+    for (const int lines : r.outline.view_lines) std::printf(" %d", lines);
+    std::printf("\n");
+    if (!two_rigs) {
+      // Measured: the images alone fit 0.05 (< image_start_quality 0.7), refused.
+      EXPECT_FALSE(r.valid);
+      EXPECT_NE(r.track.outcome, TrackOutcome::kStarted);
+      EXPECT_NE(r.outline_note.find("start refused"), std::string::npos) << r.outline_note;
+      continue;
+    }
+    // Measured: started, 0.538 m off (the outline's range far out), fit 1.00, lines per view 0 0
+    // 201 201.
+    ASSERT_TRUE(r.valid) << r.error;
+    EXPECT_EQ(r.track.outcome, TrackOutcome::kStarted);
+    ASSERT_EQ(r.outline.view_lines.size(), 4u);
+    EXPECT_EQ(r.outline.view_lines[0] + r.outline.view_lines[1], 0);
+    EXPECT_GT(r.outline.quality, 0.95);
+    EXPECT_LT(off, 0.6);
+  }
+}
+
 // With the outline on but no images this frame (or no mesh), the registrar tracks as before.
 TEST(Registrar, TheOutlineWithoutImagesTracksAsBefore) {
   RegistrarOptions options;

@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Resolves and checks an experiment file before a launch loads it:
-  check_experiment.py FILE [--resolved OUT]
+  check_experiment.py FILE [--resolved OUT] [--rigs LIST --rig-part OUT]
   check_experiment.py --show FILE
+  check_experiment.py --rigs-of FILE
   check_experiment.py --redundant FILE...
 An experiment (config/experiments/NAME.yaml) sets parameters of the stages by their node names:
 sim, stereo/aar_stereo, occlusion, registration, eval. It may start from others: `include: BASE`
@@ -10,11 +11,15 @@ loads each base in order, then the file's own keys over them, key by key (cartog
 include). Each stage refuses a key it does not know (ParamReader), but a namespace no stage reads
 (a misspelt `registraton:`) would be loaded and ignored without a word: this refuses it, naming
 the file and the namespace, and exits 1; so it does an include that is missing or circular.
+With --rigs (the launch's rigs:=, comma-separated; issue 44) it refuses a list that is not the
+experiment's sim rigs (`sim: rigs:`, default the one rig `stereo`) or whose first is not `stereo`,
+and writes the settings a further rig's stages take (aar_stereo and occlusion) to --rig-part's OUT.
 On success it writes the resolved settings to OUT (one YAML, what the launch loads) and prints
 the namespaces (launch files use it as a command parameter, which makes roslaunch stop before
 any node starts when the check fails); the campaign driver runs it on every experiment of a
 campaign before the first run. --show prints every setting as `namespace/key: value  # file`,
 the file that gave it (the experiment's effective settings over the stages' defaults);
+--rigs-of prints the experiment's sim rigs as the launch's rigs:= takes them;
 --redundant lists the settings a file gives the value its includes already give (scripts/lint)."""
 import os
 import sys
@@ -185,6 +190,45 @@ def write_resolved(tree, path):
     os.replace(path + ".tmp", path)
 
 
+def sim_rigs(tree):
+    """The names of the experiment's sim rigs, in order (one rig, stereo, when it sets none)."""
+    return [str(r.get("name")) if isinstance(r, dict) else str(r)
+            for r in tree.get("sim", {}).get("rigs", [{"name": "stereo"}])]
+
+
+def check_rigs(tree, rigs, path):
+    """Refuses a launch's rig list that is not the experiment's sim rigs."""
+    names = rigs.split(",")
+    wanted = sim_rigs(tree)
+    if names[0] != "stereo" or len(set(names)) != len(names):
+        raise Refused(f"rigs:={rigs}: the first rig must be stereo and each named once")
+    if names != wanted:
+        raise Refused(f"{path}: its sim rigs are {','.join(wanted)}, but the launch runs "
+                      f"rigs:={rigs} (give rigs:={','.join(wanted)})")
+
+
+def rig_part(tree):
+    """A further rig's settings: the experiment's for the first rig's aar_stereo and occlusion."""
+    part = {}
+    if tree.get("stereo", {}).get("aar_stereo"):
+        part["aar_stereo"] = tree["stereo"]["aar_stereo"]
+    if tree.get("occlusion"):
+        part["occlusion"] = tree["occlusion"]
+    return part
+
+
+def options(args):
+    """FILE and its --resolved, --rigs and --rig-part values; None when malformed."""
+    if not args or args[0].startswith("--") or len(args) % 2 != 1:
+        return None
+    flags = dict(zip(args[1::2], args[2::2]))
+    if not set(flags) <= {"--resolved", "--rigs", "--rig-part"}:
+        return None
+    if ("--rigs" in flags) != ("--rig-part" in flags):
+        return None
+    return args[0], flags
+
+
 def main(argv):
     args = argv[1:]
     try:
@@ -193,26 +237,35 @@ def main(argv):
             for line in found:
                 print(f"check_experiment: {line}", file=sys.stderr)
             return 1 if found else 0
+        if len(args) == 2 and args[0] == "--rigs-of":
+            print(",".join(sim_rigs(resolve(args[1], {}))))
+            return 0
         if len(args) == 2 and args[0] == "--show":
             try:
                 show(args[1])
             except BrokenPipeError:  # a reader that stopped early (| head)
                 sys.stderr.close()
             return 0
-        if len(args) not in (1, 3) or (len(args) == 3 and args[1] != "--resolved"):
+        parsed = options(args)
+        if parsed is None:
             print(__doc__.splitlines()[1].strip() + "\n" + __doc__.splitlines()[2].strip(),
                   file=sys.stderr)
             return 2
-        tree = resolve(args[0], {})
+        path, flags = parsed
+        tree = resolve(path, {})
+        if "--rigs" in flags:
+            check_rigs(tree, flags["--rigs"], path)
     except Refused as e:
         for line in str(e).splitlines():
             print(f"check_experiment: {line}", file=sys.stderr)
         return 1
-    if len(args) == 3:
+    for flag, content in (("--resolved", tree), ("--rig-part", rig_part(tree))):
+        if flag not in flags:
+            continue
         try:
-            write_resolved(tree, args[2])
+            write_resolved(content, flags[flag])
         except OSError as e:
-            print(f"check_experiment: cannot write {args[2]}: {e.strerror}", file=sys.stderr)
+            print(f"check_experiment: cannot write {flags[flag]}: {e.strerror}", file=sys.stderr)
             return 1
     print(" ".join(sorted(tree)))
     return 0

@@ -4,7 +4,8 @@
 
 namespace aar_ros_common {
 
-FrameLedger::FrameLedger(ros::NodeHandle nh, std::string stage) : stage_(std::move(stage)) {
+FrameLedger::FrameLedger(ros::NodeHandle nh, const std::string& stage, const std::string& rig)
+    : stage_(rig.empty() ? stage : rig + "/" + stage) {
   // Small messages, one per frame and stage: a long queue, so that none is dropped unseen.
   pub_ = nh.advertise<aar_msgs::FrameOutcome>(kFrameOutcomeTopic, 100);
 }

@@ -143,4 +143,17 @@ void ParamReader::Convert(const std::string& name, const XmlRpcValue& value,
   }
 }
 
+void ParamReader::Convert(const std::string& name, const XmlRpcValue& value,
+                          std::vector<std::string>& out) const {
+  Check(value.getType() == XmlRpcValue::TypeArray, name,
+        std::string("has the wrong type (a list of strings expected, not ") +
+            TypeName(value.getType()) + ")");
+  out.clear();
+  for (int i = 0; i < value.size(); ++i) {
+    std::string text;
+    Convert(name + "[" + std::to_string(i) + "]", value[i], text);
+    out.push_back(text);
+  }
+}
+
 }  // namespace aar_ros_common

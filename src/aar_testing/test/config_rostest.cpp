@@ -54,7 +54,24 @@ TEST(Config, EveryExperimentLoadsIntoEveryNode) {
         EXPECT_EQ(registration.registrar.reference, aar_registration::ReferenceKind::kWingsNose);
       }
       const bool flight = name == "flight" || name == "flight_no_boom" ||
-                          name == "flight_both_views" || name == "flight_partial";
+                          name == "flight_both_views" || name == "flight_partial" ||
+                          name == "flight_two_rigs";
+      // flight_two_rigs: flight's settings on a second rig at config/mounts/share_mirror.yaml,
+      // whose stages take the experiment's settings as the first rig's do.
+      const bool two_rigs = name == "flight_two_rigs";
+      EXPECT_EQ(registration.rigs.size(), two_rigs ? 2u : 1u) << name;
+      EXPECT_EQ(sim.more_rigs.size(), two_rigs ? 1u : 0u) << name;
+      if (two_rigs) {
+        ASSERT_EQ(sim.more_rigs.size(), 1u);
+        EXPECT_EQ(sim.more_rigs[0].name, "share_mirror");
+        EXPECT_EQ(registration.rigs[1], "share_mirror");
+        const ros::NodeHandle rig_stereo(root, "share_mirror/aar_stereo");
+        const auto rig_occlusion = aar_occlusion::LoadOcclusionNodeOptions(
+            ros::NodeHandle(root, "share_mirror/occlusion"));
+        EXPECT_EQ(aar_stereo::LoadStereoNodeOptions(rig_stereo).roi.enabled, stereo.roi.enabled);
+        EXPECT_EQ(rig_occlusion.step.cull, occlusion.step.cull);
+        EXPECT_EQ(rig_occlusion.step.gate_receiver, occlusion.step.gate_receiver);
+      }
       const bool outline = name == "tracking_outline" || flight;
       const bool ours = name == "tracking" || name == "tracking_robust" || outline;
       const bool robust = name == "tracking_robust" || outline;
@@ -139,8 +156,8 @@ TEST(Config, EveryExperimentLoadsIntoEveryNode) {
     }
   }
   // The thesis's four, tracking, tracking_robust, tracking_outline, flight, flight_no_boom,
-  // flight_both_views, flight_partial, the two ablations.
-  EXPECT_EQ(experiments, 13);
+  // flight_both_views, flight_partial, flight_two_rigs, the two ablations.
+  EXPECT_EQ(experiments, 14);
 }
 
 // Every camera mount in config/mounts/ loads into the simulator over config/sim.yaml and moves

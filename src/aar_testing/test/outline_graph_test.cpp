@@ -14,14 +14,9 @@
 
 #include <unistd.h>
 
-#include <aar_description/boom_model.h>
-#include <aar_description/receiver_description.h>
-#include <aar_geometry/robot_model.h>
-#include <aar_sim/approach.h>
-#include <aar_sim/flight_path.h>
-
 #include "aar_testing/paths.h"
 #include "aar_testing/pipeline_run.h"
+#include "aar_testing/suite_approach.h"
 #include "aar_testing/time_scale.h"
 
 namespace {
@@ -81,33 +76,12 @@ TEST(OutlineGraph, RegionAWithTheOutlineAndWithout) {
   EXPECT_GT(stereo.max_angle, 3.0 * outline.max_angle);
 }
 
-// The suite's approach of `seed` (scripts/run --suite) for the receiver description `receiver`
-// (empty: the C-12's), written to a temporary file: its path.
-std::string WriteSuiteApproach(int seed, const std::string& receiver = "") {
-  // The contact point as generate_approach takes it: the nozzle tip at the boom's static pose.
-  const Eigen::Vector3d tip =
-      aar_geometry::ComputeLinkPoses(
-          aar_testing::LoadBoomModel(),
-          aar_description::BoomJointPositions(aar_description::DefaultBoomPose()))
-          .at("nozzle_tip")
-          .translation();
-  const std::string path =
-      (std::filesystem::temp_directory_path() /
-       ("aar_approach_" + std::to_string(seed) + "_" + std::to_string(::getpid()) + ".csv"))
-          .string();
-  aar_sim::ApproachOptions options = aar_sim::VariedApproach(seed);
-  if (!receiver.empty())
-    options.receptacle = aar_description::LoadReceiverDescription(receiver).receptacle;
-  aar_sim::WriteFlightPath(path, aar_sim::GenerateApproach(options, tip));
-  return path;
-}
-
 // Suite approach 1020 (seed 1, noise 2 grey levels, seeded 1020), its first 40 frames (174 to
 // 151 m): stereo's starts are refused for 3.2 s (their outlines do not fit), and the first one
 // taken is lost again. tracking_outline starts from the images alone (outline_image_start) on
 // the first frame and holds the track.
 TEST(OutlineGraph, AFarStartStereoCannotGiveComesFromTheImagesAlone) {
-  const std::string path = WriteSuiteApproach(1020);
+  const std::string path = aar_testing::WriteSuiteApproach(1020);
   const aar_testing::PipelineRun run = aar_testing::RunPipeline(
       "outline_image_start",
       "experiment:=tracking_outline flight_path:=" + path + " frames:=" + std::to_string(kFrames) +
@@ -140,7 +114,7 @@ TEST(OutlineGraph, AFarStartStereoCannotGiveComesFromTheImagesAlone) {
 // seen; flight and flight_both_views, which need 60 % of a view's outline, start at 92 m.
 TEST(OutlineGraph, APartialViewStartsAt150m) {
   constexpr int kPartialFrames = 30;
-  const std::string path = WriteSuiteApproach(7003);
+  const std::string path = aar_testing::WriteSuiteApproach(7003);
   const aar_testing::PipelineRun run = aar_testing::RunPipeline(
       "outline_partial_start",
       "experiment:=flight_partial flight_path:=" + path + " start_time:=5.0 rate:=10 frames:=" +
@@ -178,7 +152,7 @@ TEST(OutlineGraph, APartialViewStartsAt150m) {
 // false) one is confirmed and published.
 PipelineRunStats RunRq4PartialStarts(const std::string& tag, double range_sigmas) {
   const std::string receiver = aar_testing::ModelsDir() + "/rq4.yaml";
-  const std::string path = WriteSuiteApproach(7003, receiver);
+  const std::string path = aar_testing::WriteSuiteApproach(7003, receiver);
   const std::string experiment = (std::filesystem::temp_directory_path() /
                                   ("aar_partial_range_" + std::to_string(::getpid()) + ".yaml"))
                                      .string();

@@ -343,6 +343,79 @@ TEST(TopicReference, PairsByStampUsesClassZeroAndAnswersWithoutReference) {
   EXPECT_NEAR(paired->pose.position.y, 0.0, 0.01);
 }
 
+// A frame's reference cloud (receiver frame) of `points`, each of visibility class 0.
+sensor_msgs::PointCloud2 ReferenceOf(const std::vector<Eigen::Vector3f>& points,
+                                     const ros::Time& stamp) {
+  sensor_msgs::PointCloud2 reference = Cloud("receiver", points);
+  reference.header.stamp = stamp;
+  return reference;
+}
+
+// Two rigs (issue 44; registration_rigs.test: rigs [stereo, second], rig_wait 0.5 s): a frame's
+// clouds are gathered by stamp and registered together against the union of their references;
+// a frame whose second rig never comes is registered with the first after rig_wait, counted.
+TEST(TwoRigs, CloudsGatheredByStampAndALateRigWaitedForOnlySoLong) {
+  ros::NodeHandle nh;
+  ros::Publisher clouds = nh.advertise<sensor_msgs::PointCloud2>("/points", 5);
+  ros::Publisher references = nh.advertise<sensor_msgs::PointCloud2>("/aar/reference_cloud", 5);
+  ros::Publisher second = nh.advertise<sensor_msgs::PointCloud2>("/second/aar/points_filtered", 5);
+  ros::Publisher second_references =
+      nh.advertise<sensor_msgs::PointCloud2>("/second/aar/reference_cloud", 5);
+  aar_testing::StampedCollector<aar_msgs::PoseEstimate> estimates(nh, "/aar/pose_estimate");
+  tf2_ros::StaticTransformBroadcaster static_tf;
+  static_tf.sendTransform(SensorMount());
+  aar_testing::WaitFor(
+      [&] {
+        return references.getNumSubscribers() > 0 && second.getNumSubscribers() > 0 &&
+               second_references.getNumSubscribers() > 0 && estimates.sub.getNumPublishers() > 0;
+      },
+      30.0);
+  ASSERT_GT(second_references.getNumSubscribers(), 0u);
+  auto wait_for = [&](const ros::Time& stamp) {
+    const ros::WallTime until = ros::WallTime::now() + ros::WallDuration(10.0);
+    while (ros::WallTime::now() < until) {
+      {
+        std::lock_guard<std::mutex> lock(estimates.mutex);
+        if (estimates.by_stamp.count(stamp)) return estimates.by_stamp.at(stamp);
+      }
+      ros::WallDuration(0.01).sleep();
+    }
+    return aar_msgs::PoseEstimate::ConstPtr();
+  };
+  // Each rig sees half of the receiver (both "sensor" mounted: one frame for both here); both
+  // references are the whole shape, so their union is the shape once.
+  const std::vector<Eigen::Vector3f> shape = ReceiverShape();
+  const std::vector<Eigen::Vector3f> front(shape.begin(), shape.begin() + shape.size() / 2),
+      back(shape.begin() + shape.size() / 2, shape.end());
+  const auto first_half = Cloud("sensor", front);
+  auto second_half = Cloud("sensor", back);
+  second_half.header.stamp = first_half.header.stamp;
+  second.publish(second_half);  // the second rig first: the frame waits for the first
+  second_references.publish(ReferenceOf(shape, first_half.header.stamp));
+  ros::WallDuration(0.1).sleep();
+  references.publish(ReferenceOf(shape, first_half.header.stamp));
+  clouds.publish(first_half);
+  const auto both = wait_for(first_half.header.stamp);
+  ASSERT_TRUE(both) << "no answer for a frame both rigs sent";
+  EXPECT_TRUE(both->valid);
+  EXPECT_EQ(both->sensed_points, shape.size());
+  EXPECT_EQ(both->reference_points, shape.size());
+  EXPECT_NEAR(both->pose.position.x, -35.0, 0.01);
+
+  // The second rig never sends this frame: registered with the first's after rig_wait.
+  const auto alone = Cloud("sensor", shape);
+  references.publish(ReferenceOf(shape, alone.header.stamp));
+  clouds.publish(alone);
+  const ros::WallTime sent = ros::WallTime::now();
+  const auto late = wait_for(alone.header.stamp);
+  const double waited = (ros::WallTime::now() - sent).toSec();
+  ASSERT_TRUE(late) << "no answer for a frame the second rig did not send";
+  EXPECT_TRUE(late->valid);
+  EXPECT_EQ(late->sensed_points, shape.size());
+  EXPECT_GT(waited, 0.45);  // rig_wait 0.5 s (the expiry timer ticks every 0.1 s)
+  EXPECT_LT(waited, 2.0);
+}
+
 // Tracking in the node: the receiver (every 8th dense sample) flies past "sensor" at 0.5 m/s, 10
 // clouds a second. Clouds with no receiver coast on the prediction (valid, TRACK_REJECTED) until
 // max_rejections (3) loses the track (invalid, TRACK_LOST); the receiver back starts a new one;

@@ -8,12 +8,12 @@ namespace aar_alignment {
 
 // Acquisition from the images alone (issue 27; not in the thesis): where stereo gives the tracker
 // nothing to start from (far out the receiver yields a few dozen points, and behind the boom
-// none), its silhouette at the expected attitude is searched over the whole left image (with
-// both_views, each image) at ranges
-// from min_range to max_range (SearchShift at each, the boom masked), the placements whose
-// outline fits best (OutlineAligner::Score) are aligned in both images (OutlineAligner::Align, from
-// a prior long along the line of sight: the outline's size fixes the range), and the best fit is
-// the result.
+// none), its silhouette at the expected attitude is searched over the whole left image of every
+// rig (the input's left and each further rig's left extra view; with both_views, every image) at
+// ranges from min_range to max_range along that camera's axis (SearchShift at each, the boom
+// masked), the placements whose outline fits best (OutlineAligner::Score) are aligned in every
+// image (OutlineAligner::Align, from a prior long along the line of sight of the camera it was
+// found in: the outline's size fixes the range), and the best fit is the result.
 struct AcquisitionOptions {
   double min_range = 50.0;   // [m] from the left camera along its axis
   double max_range = 200.0;  // [m]
@@ -25,10 +25,11 @@ struct AcquisitionOptions {
   // lines in many wrong places (far out, farther and smaller receivers whose fuselage the boom
   // hides fit the real one's wingtips).
   double min_visible = 0.6;
-  // Search the right image too, and count a placement or an alignment as seen when either view
-  // sees min_visible of its own outline (false: the left image, both views' lines together).
-  // Far out the cameras, 0.5 m apart with the boom a few metres away, may see it differently:
-  // the boom hid 90 % of a receiver from the left camera that the right one saw whole.
+  // Search the right images too, and count a placement or an alignment as seen when any view
+  // sees min_visible of its own outline (false: each rig's left image, and seen when a rig sees
+  // min_visible with its two views' lines together). Far out the cameras, 0.5 m apart with the
+  // boom a few metres away, may see it differently: the boom hid 90 % of a receiver from the left
+  // camera that the right one saw whole.
   bool both_views = false;
   // The prior of an alignment from a placement: across the line of sight [m], about the expected
   // attitude [rad]; along the line of sight it is the range grid's step at that range.
@@ -50,12 +51,14 @@ struct AcquisitionResult {
   double time_ms = 0.0;
 };
 
-// The share of an alignment's outline seen (inside the image, not behind the boom): of both views'
-// lines together, or with both_views that of the view that sees most of its own.
+// The share of an alignment's outline seen (inside the image, not behind the boom). Without
+// both_views, that of the rig that sees most of its own, each rig's two views' lines together
+// (one rig: both views' lines together, r.lines / r.outline_lines); with both_views, that of the
+// view that sees most of its own, over every rig's views.
 double SeenShare(const AcquisitionOptions& options, const AlignmentResult& r);
 
-// `in`'s images, cameras and boom; its predicted pose gives only the attitude searched at (its
-// position is ignored). Never throws for bad images (valid = false and why).
+// `in`'s images (extra_views too), cameras and boom; its predicted pose gives only the attitude
+// searched at (its position is ignored). Never throws for bad images (valid = false and why).
 AcquisitionResult Acquire(const OutlineAligner& aligner, const AlignmentInput& in,
                           const AcquisitionOptions& options = {});
 

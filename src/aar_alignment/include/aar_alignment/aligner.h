@@ -1,6 +1,5 @@
 #pragma once
 
-#include <array>
 #include <string>
 #include <vector>
 
@@ -65,15 +64,25 @@ struct AlignmentOptions {
   // rotations far out) stay near the prediction instead of wandering.
   double prior_sigma_position = 2.0;   // [m]
   double prior_sigma_rotation = 0.05;  // [rad]
-  int min_lines = 30;                  // fewer usable lines in both images: no alignment
+  int min_lines = 30;                  // fewer usable lines in all views together: no alignment
 
   // Throws std::invalid_argument naming the field that is out of range.
   void Validate() const;
 };
 
+// One camera's rectified mono8 image and the camera (its size, intrinsics, place on the tanker).
+struct View {
+  cv::Mat image;
+  PinholeCamera camera;
+};
+
 struct AlignmentInput {
   cv::Mat left, right;  // rectified, mono8
   PinholeCamera left_camera, right_camera;
+  // Further rigs' images (issue 44), in rig order, each rig's left then right (an even count).
+  // The alignment's views are left, right, then these: their lines join the same sums after the
+  // first rig's, so without them every result is what one rig gives. Empty: one rig.
+  std::vector<View> extra_views;
   Eigen::Isometry3d T_tanker_receiver_predicted = Eigen::Isometry3d::Identity();
   // Of the prediction [m^2, rad^2], position then rotation, tanker frame, rotation
   // left-multiplied (the tracker's); zero: the options' prior_sigma_*.
@@ -100,22 +109,25 @@ struct AlignmentResult {
   double quality = 0.0;
   // Share of the final lines whose outline lies within 1.5 px of the projected one (fit > 1/2).
   double inlier_share = 0.0;
-  int lines = 0;  // usable lines in the final iteration, both images
-  // The outline's lines at the final pose, both images, usable or not (a line is unusable when it
+  int lines = 0;  // usable lines in the final iteration, every view
+  // The outline's lines at the final pose, every view, usable or not (a line is unusable when it
   // leaves the image or crosses the boom): lines / outline_lines is the share of the outline seen.
   int outline_lines = 0;
-  // The same per view (left, right): one view may see the outline the boom hides from the other.
-  std::array<int, 2> view_lines{}, view_outline_lines{};
+  // The same per view (left, right, then the extra views in order; 2 + extra_views.size() once
+  // the outline was found): one view may see the outline the boom hides from another.
+  std::vector<int> view_lines, view_outline_lines;
   Eigen::Vector2d search_shift_px = Eigen::Vector2d::Zero();  // what the coarse search moved
   int iterations = 0;
   double time_ms = 0.0;
 };
 
 // What is wrong with the input (empty or non-mono8 images, a camera of zero size or of another
-// size than its image, a non-finite prediction); empty when nothing is.
+// size than its image, an odd number of extra views, a non-finite prediction); empty when
+// nothing is. An extra view is named by its index: "the extra_views[3] image is empty".
 std::string CheckAlignmentInput(const AlignmentInput& in);
 
-// Aligns the receiver's mesh to both images. Thread-safe after construction (Align is const).
+// Aligns the receiver's mesh to both images, and every further rig's (AlignmentInput::
+// extra_views). Thread-safe after construction (Align is const).
 class OutlineAligner {
  public:
   // Throws std::invalid_argument for a bad mesh or options.

@@ -35,7 +35,8 @@ LedgerEntry ClassifyFrame(const Estimate* estimate, const std::vector<StageOutco
                           const std::string& no_truth);
 
 // Whether this stage report settles the frame: a drop by any stage but registration, whose
-// drops ("no_pose") come with an estimate.
+// drops ("no_pose") come with an estimate, and but a further rig's (RIG/stereo, RIG/occlusion:
+// registration still answers from the other rigs).
 bool IsFinal(const StageOutcome& outcome);
 
 std::string LedgerCsvHeader();                       // t,stamp,outcome,stage,reason,detail

@@ -22,7 +22,7 @@ OcclusionNode::OcclusionNode(ros::NodeHandle nh, ros::NodeHandle private_nh,
       options_(options),
       tf_listener_(tf_buffer_),
       diagnostics_(nh, private_nh),
-      ledger_(nh, "occlusion") {
+      ledger_(nh, "occlusion", options.common.rig) {
   // The boom: a refused model is reported and every frame passes through unculled.
   std::optional<aar_geometry::RobotModel> boom;
   std::string boom_error;

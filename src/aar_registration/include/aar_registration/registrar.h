@@ -108,12 +108,23 @@ struct OutlineOptions {
   void Validate() const;  // throws std::invalid_argument naming the field
 };
 
+// A further stereo rig's rectified mono8 pair and its cameras in the tanker frame (issue 44).
+struct RigImages {
+  cv::Mat left, right;
+  aar_alignment::PinholeCamera left_camera, right_camera;
+};
+
 // One frame's images for the outline: rectified mono8 pair, their cameras in the tanker frame,
 // the boom's convex parts (vertices in the tanker frame) to mask out.
 struct OutlineFrame {
   cv::Mat left, right;
   aar_alignment::PinholeCamera left_camera, right_camera;
   std::vector<std::vector<Eigen::Vector3d>> boom_parts_in_tanker;
+  // Further rigs' rectified pairs and cameras in the tanker frame, in rig order: the outline is
+  // aligned (and searched for, at an image start) in their images too. Empty: one rig. The range
+  // noise and range checks (disparity_sigma, persistent_error, partial_range_sigmas) keep using
+  // the first rig's cameras above: the rigs are a few metres apart, far less than the range.
+  std::vector<RigImages> more_rigs;
 
   double baseline() const {  // [m] between the two cameras
     return (right_camera.T_tanker_optical.translation() -

@@ -1,5 +1,8 @@
 #include "aar_registration/ros/conversions.h"
 
+#include <array>
+#include <set>
+
 #include <aar_ros_common/point_cloud.h>
 #include <tf2_eigen/tf2_eigen.h>
 
@@ -25,6 +28,28 @@ ReferencePoints ToReferencePoints(const sensor_msgs::PointCloud2& msg) {
                ny = aar_ros_common::ReadField(msg, "normal_y", at),
                nz = aar_ros_common::ReadField(msg, "normal_z", at);
     for (size_t i = 0; i < at.size(); ++i) out.normals.emplace_back(nx[i], ny[i], nz[i]);
+  }
+  return out;
+}
+
+ReferencePoints MergeReferences(std::vector<ReferencePoints> rigs) {
+  if (rigs.empty()) return {};
+  // Normals when every rig with points gives them.
+  bool normals = true;
+  for (const ReferencePoints& rig : rigs)
+    normals = normals && (rig.points.empty() || rig.normals.size() == rig.points.size());
+  ReferencePoints out = std::move(rigs.front());
+  if (!normals) out.normals.clear();
+  auto key = [](const Eigen::Vector3d& p) { return std::array<double, 3>{p.x(), p.y(), p.z()}; };
+  std::set<std::array<double, 3>> seen;
+  for (const Eigen::Vector3d& p : out.points) seen.insert(key(p));
+  for (size_t r = 1; r < rigs.size(); ++r) {
+    const ReferencePoints& rig = rigs[r];
+    for (size_t i = 0; i < rig.points.size(); ++i) {
+      if (!seen.insert(key(rig.points[i])).second) continue;
+      out.points.push_back(rig.points[i]);
+      if (normals) out.normals.push_back(rig.normals[i]);
+    }
   }
   return out;
 }

@@ -17,12 +17,15 @@ constexpr size_t kKeptPairs = 8;
 
 OutlineInputs::OutlineInputs(ros::NodeHandle nh, const tf2_ros::Buffer& tf,
                              const std::string& tanker_frame, const std::string& robot_description,
-                             double tf_timeout, double tf_fallback_age)
+                             double tf_timeout, double tf_fallback_age,
+                             const std::string& topic_prefix)
     : tf_(tf),
       tanker_frame_(tanker_frame),
       tf_timeout_(tf_timeout),
       tf_fallback_age_(tf_fallback_age) {
-  if (robot_description.empty()) {
+  if (!topic_prefix.empty()) {
+    // A further rig: the first rig's frame carries the boom.
+  } else if (robot_description.empty()) {
     ROS_INFO("registration: no boom modelled (model_boom: false): the outline masks none");
   } else {
     try {
@@ -37,10 +40,10 @@ OutlineInputs::OutlineInputs(ros::NodeHandle nh, const tf2_ros::Buffer& tf,
   }
   if (!boom_error_.empty())
     ROS_WARN_STREAM("registration: the outline masks no boom: " << boom_error_);
-  left_sub_.subscribe(nh, "left/image_rect", 2);
-  left_info_sub_.subscribe(nh, "left/camera_info", 2);
-  right_sub_.subscribe(nh, "right/image_rect", 2);
-  right_info_sub_.subscribe(nh, "right/camera_info", 2);
+  left_sub_.subscribe(nh, topic_prefix + "left/image_rect", 2);
+  left_info_sub_.subscribe(nh, topic_prefix + "left/camera_info", 2);
+  right_sub_.subscribe(nh, topic_prefix + "right/image_rect", 2);
+  right_info_sub_.subscribe(nh, topic_prefix + "right/camera_info", 2);
   sync_ = std::make_unique<Sync>(left_sub_, left_info_sub_, right_sub_, right_info_sub_, 10);
   sync_->registerCallback(&OutlineInputs::OnPair, this);
 }

@@ -1,6 +1,8 @@
 #include "aar_registration/ros/registration_node.h"
 
 #include <chrono>
+
+#include <boost/bind/bind.hpp>
 #include <set>
 #include <sstream>
 
@@ -46,13 +48,17 @@ RegistrationNode::RegistrationNode(ros::NodeHandle nh, ros::NodeHandle private_n
         options_.model_boom ? options_.common.robot_description : "", options_.common.tf_timeout,
         options_.common.tf_fallback_age);
     outline_pub_ = nh_.advertise<geometry_msgs::PoseWithCovarianceStamped>("aar/outline_pose", 10);
+    for (size_t i = 1; i < options_.rigs.size(); ++i)  // the first rig's frame has the boom
+      more_outlines_.push_back(std::make_unique<OutlineInputs>(
+          nh_, tf_buffer_, options_.common.frames.tanker, "", options_.common.tf_timeout,
+          options_.common.tf_fallback_age, options_.rigs[i] + "/"));
   }
   PublishModels();
   // newest_wins: the callbacks only hand over to the registering thread, where an input still
   // waiting when a newer one comes is superseded (the ledger counts it).
   stage_ = std::make_unique<aar_ros_common::Stage<Input>>(
       options_.newest_wins, [this](Input& input) { Process(input); },
-      [](const Input& input) { return input.points->header.stamp; }, ledger_,
+      [](const Input& input) { return input.stamp; }, ledger_,
       aar_ros_common::Stage<Input>::Names{"registration", "cloud", "registration"});
   const uint32_t queue = stage_->queue(5);
   if (options_.registrar.reference == ReferenceKind::kTopic) {
@@ -64,6 +70,7 @@ RegistrationNode::RegistrationNode(ros::NodeHandle nh, ros::NodeHandle private_n
     // A cloud whose reference never comes still gets an answer (an invalid estimate), so that
     // lockstep moves on and the log says what is missing.
     cloud_sub_ = nh_.subscribe("points", queue, &RegistrationNode::OnPointsSeen, this);
+    if (options_.rigs.size() > 1) SubscribeRigs(queue);
     pending_timer_ =
         nh_.createWallTimer(ros::WallDuration(0.1), &RegistrationNode::ExpirePending, this);
   } else {
@@ -92,7 +99,27 @@ RegistrationNode::~RegistrationNode() {
   cloud_sub_.shutdown();
   points_filter_.unsubscribe();
   reference_filter_.unsubscribe();
+  for (auto& rig : rig_inputs_) {
+    rig->points.unsubscribe();
+    rig->reference.unsubscribe();
+  }
   stage_->Stop();
+}
+
+void RegistrationNode::SubscribeRigs(uint32_t queue) {
+  gather_ = std::make_unique<RigGather>(options_.rigs.size());
+  rig_missing_.assign(options_.rigs.size(), 0);
+  for (size_t i = 1; i < options_.rigs.size(); ++i) {
+    auto rig = std::make_unique<RigInputs>();
+    rig->points.subscribe(nh_, options_.rigs[i] + "/aar/points_filtered", queue);
+    rig->reference.subscribe(nh_, options_.rigs[i] + "/aar/reference_cloud", queue);
+    rig->sync = std::make_unique<Sync>(rig->points, rig->reference, 10);
+    rig->sync->registerCallback(boost::bind(&RegistrationNode::OnRigPair, this, i,
+                                            boost::placeholders::_1, boost::placeholders::_2));
+    rig_inputs_.push_back(std::move(rig));
+  }
+  ROS_INFO_STREAM("registration: " << options_.rigs.size() << " rigs, a frame waits up to "
+                                   << options_.rig_wait << " s for each rig's cloud");
 }
 
 bool RegistrationNode::TryBuildStaticReference(double tf_wait) {
@@ -153,11 +180,20 @@ void RegistrationNode::OnPointsSeen(const sensor_msgs::PointCloud2::ConstPtr& ms
 
 void RegistrationNode::ExpirePending(const ros::WallTimerEvent&) {
   std::vector<ros::Time> expired;
+  std::vector<RigGather::Frame> gathered;  // more than one rig: frames that waited rig_wait
   {
     std::lock_guard<std::mutex> lock(pending_mutex_);
     const ros::WallTime now = ros::WallTime::now();
+    if (gather_) gathered = gather_->Expire(now, options_.rig_wait);
+    for (const auto& frame : gathered) {
+      answered_.insert(frame.first);
+      pending_.erase(frame.first);
+    }
     for (auto it = pending_.begin(); it != pending_.end();) {
-      if ((now - it->second).toSec() > options_.reference_timeout) {
+      // A frame another rig's cloud came for is the gather's to answer.
+      if (gather_ && gather_->Holds(it->first)) {
+        ++it;
+      } else if ((now - it->second).toSec() > options_.reference_timeout) {
         expired.push_back(it->first);
         answered_.insert(it->first);
         it = pending_.erase(it);
@@ -167,6 +203,7 @@ void RegistrationNode::ExpirePending(const ros::WallTimerEvent&) {
     }
     while (answered_.size() > 100) answered_.erase(answered_.begin());
   }
+  for (auto& frame : gathered) stage_->Hand(Input{frame.first, std::move(frame.second)});
   for (const ros::Time& stamp : expired) {
     RegistrarResult none;
     none.error = "no reference cloud with the points' stamp within " +
@@ -180,26 +217,51 @@ void RegistrationNode::ExpirePending(const ros::WallTimerEvent&) {
 
 void RegistrationNode::OnPair(const sensor_msgs::PointCloud2::ConstPtr& points,
                               const sensor_msgs::PointCloud2::ConstPtr& reference) {
+  if (gather_) return OnRigPair(0, points, reference);
   {
     std::lock_guard<std::mutex> lock(pending_mutex_);
     if (answered_.count(points->header.stamp)) return;  // already answered as expired
     answered_.insert(points->header.stamp);
     pending_.erase(points->header.stamp);
   }
-  stage_->Hand(Input{points, reference});
+  stage_->Hand(Input{points->header.stamp, {{points, reference}}});
+}
+
+void RegistrationNode::OnRigPair(size_t rig, const sensor_msgs::PointCloud2::ConstPtr& points,
+                                 const sensor_msgs::PointCloud2::ConstPtr& reference) {
+  std::optional<RigGather::Frame> frame;
+  {
+    std::lock_guard<std::mutex> lock(pending_mutex_);
+    // A rig's cloud after its frame was registered without it: counted there as missing.
+    if (answered_.count(points->header.stamp)) return;
+    frame = gather_->Add(rig, points->header.stamp, {points, reference}, ros::WallTime::now());
+    if (!frame) return;
+    answered_.insert(frame->first);
+    pending_.erase(frame->first);
+  }
+  stage_->Hand(Input{frame->first, std::move(frame->second)});
 }
 
 void RegistrationNode::Process(const Input& input) {
   std::lock_guard<std::mutex> lock(mutex_);
-  if (input.reference) {
+  if (options_.registrar.reference == ReferenceKind::kTopic) {
     try {
-      ReferencePoints ref = ToReferencePoints(*input.reference);
+      std::vector<ReferencePoints> rigs;
+      for (const RigGather::Cloud& cloud : input.clouds)
+        if (cloud.reference) rigs.push_back(ToReferencePoints(*cloud.reference));
+      // One rig: its reference as it came; more: the union (each rig's own view of the mesh).
+      ReferencePoints ref = rigs.size() == 1 ? std::move(rigs.front()) : MergeReferences(rigs);
       registrar_.SetReference(std::move(ref.points), std::move(ref.normals));
     } catch (const std::exception& e) {  // no stale target: this frame gets no estimate
       ReportError(std::string("reference cloud rejected: ") + e.what());
     }
   }
-  Register(input.points);
+  if (gather_) {
+    std::lock_guard<std::mutex> report(report_mutex_);
+    for (size_t i = 0; i < input.clouds.size(); ++i)
+      if (!input.clouds[i].points) ++rig_missing_[i];
+  }
+  Register(input);
 }
 
 void RegistrationNode::ReportError(const std::string& what) {
@@ -207,24 +269,25 @@ void RegistrationNode::ReportError(const std::string& what) {
 }
 
 void RegistrationNode::OnCloud(const sensor_msgs::PointCloud2::ConstPtr& msg) {
-  stage_->Hand(Input{msg, nullptr});
+  stage_->Hand(Input{msg->header.stamp, {{msg, nullptr}}});
 }
 
-void RegistrationNode::Register(const sensor_msgs::PointCloud2::ConstPtr& msg) {
+void RegistrationNode::Register(const Input& input) {
   const auto received = std::chrono::steady_clock::now();
   auto total_ms = [&] {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - received)
         .count();
   };
-  const std::string problem = StampProblem(msg->header.stamp);
+  const ros::Time& stamp = input.stamp;
+  const std::string problem = StampProblem(stamp);
   // A cloud older than the last one registered came late: the tracker must not go back in time
   // (it would start a new track), and its estimate would be stale. Dropped, without an estimate.
   if (const std::string late =
-          problem.empty() ? order_.Check(msg->header.stamp, ros::Time::now()) : std::string();
+          problem.empty() ? order_.Check(stamp, ros::Time::now()) : std::string();
       !late.empty()) {
     const std::string what =
         "registration: cloud on " + nh_.resolveName("points") + " dropped, no estimate: " + late;
-    ledger_.Dropped(msg->header.stamp, "out_of_order", late);
+    ledger_.Dropped(stamp, "out_of_order", late);
     if (errors_.ShouldLog(what))
       ROS_WARN_STREAM(what << " (" << order_.dropped() << " dropped so far)");
     return;
@@ -237,39 +300,25 @@ void RegistrationNode::Register(const sensor_msgs::PointCloud2::ConstPtr& msg) {
     // see) can be empty while the outline still fits in the other (issue 44).
     if (!registrar_.has_reference() && !outline_)
       throw std::runtime_error("no reference model yet");
-    std::string error;
-    const auto T_tanker_cloud = aar_ros_common::LookupTransform(
-        tf_buffer_, options_.common.frames.tanker, msg->header.frame_id, msg->header.stamp,
-        options_.common.tf_timeout, "the cloud's stamp", &error);
-    if (!T_tanker_cloud) throw std::runtime_error(error);
-    std::vector<Eigen::Vector3d> sensed = aar_ros_common::FromCloud(*msg).points;
-    for (auto& p : sensed) p = *T_tanker_cloud * p;
+    const std::vector<Eigen::Vector3d> sensed = SensedInTanker(input);
     std::optional<Eigen::Vector3d> eye;  // stereo-ray ICP pairs along the left camera's rays
     if (options_.registrar.icp.metric == IcpMetric::kStereoRays) {
+      std::string error;
       const auto T_tanker_left = aar_ros_common::LookupTransform(
-          tf_buffer_, options_.common.frames.tanker, options_.common.frames.left_camera,
-          msg->header.stamp, options_.common.tf_timeout, "the cloud's stamp", &error);
+          tf_buffer_, options_.common.frames.tanker, options_.common.frames.left_camera, stamp,
+          options_.common.tf_timeout, "the cloud's stamp", &error);
       if (!T_tanker_left) throw std::runtime_error("stereo_rays ICP: " + error);
       eye = T_tanker_left->translation();
     }
-    std::optional<OutlineFrame> outline;
-    if (outline_) {
-      std::string missing;
-      outline = outline_->Get(msg->header.stamp, &missing);
-      if (!outline) {
-        std::lock_guard<std::mutex> lock(report_mutex_);
-        ++outline_missing_;
-        last_outline_missing_ = missing;
-      }
-    }
-    result = registrar_.Register(sensed, msg->header.stamp.toSec(), outline ? &*outline : nullptr,
+    const std::optional<OutlineFrame> outline = OutlineOf(stamp);
+    result = registrar_.Register(sensed, stamp.toSec(), outline ? &*outline : nullptr,
                                  eye ? &*eye : nullptr);
-    if (result.outline_ran) PublishOutline(result, msg->header);
+    if (result.outline_ran) PublishOutline(result, stamp);
     if (result.cut_from_points > 0) {
       ROS_WARN_STREAM_THROTTLE(5.0, "registration: a cloud of "
-                                        << result.cut_from_points << " points at "
-                                        << msg->header.stamp << ": registered a random "
-                                        << result.sensed_points << " of them (max_cloud_points)");
+                                        << result.cut_from_points << " points at " << stamp
+                                        << ": registered a random " << result.sensed_points
+                                        << " of them (max_cloud_points)");
     }
   } catch (const std::exception& e) {
     result.error = e.what();
@@ -280,20 +329,55 @@ void RegistrationNode::Register(const sensor_msgs::PointCloud2::ConstPtr& msg) {
     const TrackOutcome outcome = result.track.outcome;
     if ((outcome == TrackOutcome::kLost || outcome == TrackOutcome::kReset) &&
         errors_.ShouldLog("track " + std::string(ToString(outcome))))
-      ROS_WARN_STREAM("registration: track " << ToString(outcome) << " at " << msg->header.stamp
+      ROS_WARN_STREAM("registration: track " << ToString(outcome) << " at " << stamp
                                              << ", acquiring again: " << result.track.reason);
   }
-  Publish(result, msg->header.stamp, total_ms());
+  Publish(result, stamp, total_ms());
   if (result.valid) {
-    ROS_DEBUG_STREAM("registration: " << msg->header.stamp << ": " << result.icp.iterations
+    ROS_DEBUG_STREAM("registration: " << stamp << ": " << result.icp.iterations
                                       << " iterations, rms " << result.icp.rms << " m, "
                                       << result.registration_ms << " ms"
                                       << (result.icp.converged ? "" : " (not converged)"));
   }
 }
 
-void RegistrationNode::PublishOutline(const RegistrarResult& result,
-                                      const std_msgs::Header& cloud_header) {
+std::vector<Eigen::Vector3d> RegistrationNode::SensedInTanker(const Input& input) {
+  std::vector<Eigen::Vector3d> sensed;
+  for (const RigGather::Cloud& cloud : input.clouds) {
+    if (!cloud.points) continue;  // this rig's did not come
+    const sensor_msgs::PointCloud2& msg = *cloud.points;
+    std::string error;
+    const auto T_tanker_cloud = aar_ros_common::LookupTransform(
+        tf_buffer_, options_.common.frames.tanker, msg.header.frame_id, msg.header.stamp,
+        options_.common.tf_timeout, "the cloud's stamp", &error);
+    if (!T_tanker_cloud) throw std::runtime_error(error);
+    for (const Eigen::Vector3d& p : aar_ros_common::FromCloud(msg).points)
+      sensed.push_back(*T_tanker_cloud * p);
+  }
+  return sensed;
+}
+
+std::optional<OutlineFrame> RegistrationNode::OutlineOf(const ros::Time& stamp) {
+  if (!outline_) return std::nullopt;
+  std::string missing;
+  std::optional<OutlineFrame> frame = outline_->Get(stamp, &missing);
+  // Further rigs' images join the first rig's frame (its boom parts are every rig's).
+  for (size_t i = 0; frame && i < more_outlines_.size(); ++i) {
+    std::string rig_missing;
+    if (std::optional<OutlineFrame> rig = more_outlines_[i]->Get(stamp, &rig_missing))
+      frame->more_rigs.push_back({rig->left, rig->right, rig->left_camera, rig->right_camera});
+    else
+      missing = options_.rigs[i + 1] + ": " + rig_missing;
+  }
+  if (!missing.empty()) {
+    std::lock_guard<std::mutex> lock(report_mutex_);
+    ++outline_missing_;
+    last_outline_missing_ = missing;
+  }
+  return frame;
+}
+
+void RegistrationNode::PublishOutline(const RegistrarResult& result, const ros::Time& stamp) {
   {
     std::lock_guard<std::mutex> lock(report_mutex_);
     ++outline_ran_;
@@ -303,7 +387,7 @@ void RegistrationNode::PublishOutline(const RegistrarResult& result,
   }
   if (!result.outline.valid) return;
   geometry_msgs::PoseWithCovarianceStamped pose;
-  pose.header.stamp = cloud_header.stamp;
+  pose.header.stamp = stamp;
   pose.header.frame_id = options_.common.frames.tanker;
   pose.pose.pose = tf2::toMsg(result.outline.T_tanker_receiver);
   for (int i = 0; i < 36; ++i) pose.pose.covariance[i] = result.outline.covariance(i / 6, i % 6);
@@ -372,6 +456,8 @@ void RegistrationNode::Diagnose(diagnostic_updater::DiagnosticStatusWrapper& sta
     if (!outline_->boom_error().empty())
       status.add("outline: boom not masked", outline_->boom_error());
   }
+  for (size_t i = 0; i < rig_missing_.size(); ++i)
+    status.add("rigs: frames registered without " + options_.rigs[i], rig_missing_[i]);
   if (!last_error_.empty()) {
     status.summary(diagnostic_msgs::DiagnosticStatus::ERROR,
                    "last frame has no estimate: " + last_error_);

@@ -1,5 +1,7 @@
 // The node's parameters, apart from the node so that they can be read without a master
 // (ParamReader over a parameter tree: the parameter fuzz target).
+#include <set>
+
 #include <aar_geometry/pose.h>
 #include <aar_ros_common/node_options.h>
 #include <aar_ros_common/param_reader.h>
@@ -229,6 +231,18 @@ IntegrityOptions LoadIntegrityOptions(aar_ros_common::ParamReader& params, Integ
   return o;
 }
 
+void LoadRigs(aar_ros_common::ParamReader& params, RegistrationNodeOptions& o) {
+  o.rigs = params.Get("rigs", o.rigs);
+  params.Check(!o.rigs.empty(), "rigs", "must name at least one rig");
+  std::set<std::string> seen;
+  for (const std::string& rig : o.rigs) {
+    params.Check(aar_ros_common::IsRigName(rig), "rigs",
+                 "must hold rig names ([A-Za-z][A-Za-z0-9_]*), not '" + rig + "'");
+    params.Check(seen.insert(rig).second, "rigs", "names '" + rig + "' twice");
+  }
+  o.rig_wait = params.GetNonNegative("rig_wait", o.rig_wait);
+}
+
 }  // namespace
 
 RegistrationNodeOptions LoadRegistrationNodeOptions(const ros::NodeHandle& nh) {
@@ -261,11 +275,18 @@ RegistrationNodeOptions LoadRegistrationNodeOptions(aar_ros_common::ParamReader&
   o.newest_wins = params.Get("newest_wins", o.newest_wins);
   o.reference_timeout = params.GetNonNegative("reference_timeout", o.reference_timeout);
   o.max_stamp_lead = params.GetNonNegative("max_stamp_lead", o.max_stamp_lead);
+  LoadRigs(params, o);
 
   params.RejectUnknown();
   // Rules across keys after the unknown ones: a misspelt `trak:` is named as such, not as
   // "outline needs track".
   params.Check(!r.outline.enabled || r.track, "outline", "needs track: true");
+  // With more than one rig: the reference is each rig's own (the static shell is one rig's
+  // view), and stereo_rays pairs along one left camera's rays.
+  params.Check(o.rigs.size() == 1 || r.reference == ReferenceKind::kTopic, "rigs",
+               "of more than one rig needs reference: topic (each rig's own reference)");
+  params.Check(o.rigs.size() == 1 || r.icp.metric != IcpMetric::kStereoRays, "rigs",
+               "of more than one rig cannot use icp_metric: stereo_rays (one camera's rays)");
   return o;
 }
 

@@ -19,7 +19,9 @@ constexpr const char* kFrameOutcomeTopic = "/aar/frame_outcome";
 // it; Counts() gives the counts for the stage's /diagnostics. Thread-safe.
 class FrameLedger {
  public:
-  FrameLedger(ros::NodeHandle nh, std::string stage);
+  // `rig`: the rig a stage serves when there are several (CommonNodeOptions::rig): it reports as
+  // RIG/STAGE. Empty: STAGE.
+  FrameLedger(ros::NodeHandle nh, const std::string& stage, const std::string& rig = "");
 
   void Passed(const ros::Time& stamp);
   // Returns the frames dropped for `reason` so far, this one included (for the stage's warning).

@@ -114,6 +114,9 @@ class ParamReader {
   // A list of numbers, each finite.
   void Convert(const std::string& name, const XmlRpc::XmlRpcValue& value,
                std::vector<double>& out) const;
+  // A list of strings.
+  void Convert(const std::string& name, const XmlRpc::XmlRpcValue& value,
+               std::vector<std::string>& out) const;
 
   const ros::NodeHandle* nh_ = nullptr;  // the server; else tree_ and ns_
   XmlRpc::XmlRpcValue tree_;

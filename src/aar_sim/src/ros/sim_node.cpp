@@ -195,11 +195,15 @@ std::string SimNode::Intrusion(const std::string& caller) {
 
 void SimNode::WaitToStart() const {
   if (options_.wait_for_subscribers) {
-    ROS_INFO("sim: waiting for subscribers to both images");
-    while (!stop_ && ros::ok() &&
-           (rigs_[0].left.getNumSubscribers() == 0 || rigs_[0].right.getNumSubscribers() == 0)) {
-      ros::WallDuration(0.05).sleep();
-    }
+    // Every rig's: a rig whose stereo subscribed late would miss the first frames.
+    ROS_INFO_STREAM("sim: waiting for subscribers to both images of "
+                    << rigs_.size() << (rigs_.size() > 1 ? " rigs" : " rig"));
+    auto unheard = [this] {
+      for (const auto& rig : rigs_)
+        if (rig.left.getNumSubscribers() == 0 || rig.right.getNumSubscribers() == 0) return true;
+      return false;
+    };
+    while (!stop_ && ros::ok() && unheard()) ros::WallDuration(0.05).sleep();
   }
   // In steps, so that a shutdown (the launch ending) is not held up by the delay.
   const ros::WallTime start = ros::WallTime::now() + ros::WallDuration(options_.start_delay);

@@ -27,7 +27,7 @@ StereoNode::StereoNode(ros::NodeHandle nh, ros::NodeHandle private_nh,
       options_(options),
       reconfigure_(private_nh),
       diagnostics_(nh, private_nh),
-      ledger_(nh, "stereo") {
+      ledger_(nh, "stereo", options.common.rig) {
   if (options_.roi.enabled) {
     const StereoRoiOptions& roi = options_.roi;
     receiver_box_ = aar_description::LoadReceiverMesh(roi.receiver).Bounds();  // throws: fatal

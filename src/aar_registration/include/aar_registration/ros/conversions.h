@@ -20,6 +20,11 @@ struct ReferencePoints {
 // Throws std::invalid_argument for a cloud that cannot be read.
 ReferencePoints ToReferencePoints(const sensor_msgs::PointCloud2& msg);
 
+// More than one rig (issue 44): the union of the rigs' references, in rig order. The rigs sample
+// one mesh alike, so a sample two rigs see is one point in both: a later rig's point equal to
+// one already in is left out (its normal with it). The first rig's whole, as it came.
+ReferencePoints MergeReferences(std::vector<ReferencePoints> rigs);
+
 // The estimate message of a registration (valid or not); `total_ms` [ms] from the cloud's
 // arrival. The header names the tanker frame and the cloud's stamp.
 aar_msgs::PoseEstimate ToPoseEstimate(const RegistrarResult& result, const std_msgs::Header& header,

@@ -27,8 +27,11 @@ namespace aar_registration {
 // model: nothing is masked, said once).
 class OutlineInputs {
  public:
+  // `topic_prefix`: a further rig's (R/: R/left/image_rect, ...; issue 44), whose frames carry
+  // no boom parts (the first rig's frame has them): robot_description unused.
   OutlineInputs(ros::NodeHandle nh, const tf2_ros::Buffer& tf, const std::string& tanker_frame,
-                const std::string& robot_description, double tf_timeout, double tf_fallback_age);
+                const std::string& robot_description, double tf_timeout, double tf_fallback_age,
+                const std::string& topic_prefix = "");
   ~OutlineInputs();
 
   // The frame at `stamp`; nullopt with the reason when its images have not come (or are not

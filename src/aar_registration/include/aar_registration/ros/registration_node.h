@@ -7,6 +7,7 @@
 #include <optional>
 #include <set>
 #include <string>
+#include <vector>
 
 #include <aar_geometry/triangle_mesh.h>
 #include <aar_ros_common/error_throttle.h>
@@ -28,6 +29,7 @@
 
 #include "aar_registration/registrar.h"
 #include "aar_registration/ros/outline_inputs.h"
+#include "aar_registration/ros/rig_gather.h"
 
 namespace aar_registration {
 
@@ -52,6 +54,14 @@ struct RegistrationNodeOptions {
   double max_stamp_lead = 1.0;
   // false: the tanker flies no boom (the boom hidden to measure its cost): the outline masks none.
   bool model_boom = true;
+  // The stereo rigs fused (issue 44, docs/ARCHITECTURE.md), in order. The first is the one of
+  // `points`, aar/reference_cloud and left/..., right/...; a further rig R's clouds come on
+  // R/aar/points_filtered and R/aar/reference_cloud, its images on R/{left,right}/image_rect and
+  // camera_info. One rig: today's graph, nothing gathered.
+  std::vector<std::string> rigs = {"stereo"};
+  // [s wall] more than one rig: a frame is registered when every rig's cloud (and reference) has
+  // come, or this long after its first came, with those that did (the others counted missing).
+  double rig_wait = 0.5;
 };
 
 // Reads ~parameters (one function, unknown keys rejected); throws std::invalid_argument.
@@ -69,20 +79,30 @@ class RegistrationNode {
   ~RegistrationNode();
 
  private:
-  // A sensed cloud and, when the reference is a topic, the reference built for its stamp.
+  // A frame's sensed clouds, one per rig (null: the rig's did not come), each with the reference
+  // built for its stamp when the reference is a topic.
   struct Input {
-    sensor_msgs::PointCloud2::ConstPtr points, reference;
+    ros::Time stamp;
+    std::vector<RigGather::Cloud> clouds;
   };
   void OnCloud(const sensor_msgs::PointCloud2::ConstPtr& msg);
   void Process(const Input& input);
-  void Register(const sensor_msgs::PointCloud2::ConstPtr& msg);  // mutex_ held
+  void Register(const Input& input);  // mutex_ held
+  // The frame's sensed points in the tanker frame, every rig's in rig order; throws with why not.
+  std::vector<Eigen::Vector3d> SensedInTanker(const Input& input);
+  // The frame's images for the outline, every rig's that came (nullopt: the first rig's did not).
+  std::optional<OutlineFrame> OutlineOf(const ros::Time& stamp);
   void OnPair(const sensor_msgs::PointCloud2::ConstPtr& points,
               const sensor_msgs::PointCloud2::ConstPtr& reference);
+  // More than one rig: rig `rig`'s cloud and reference into the gather.
+  void OnRigPair(size_t rig, const sensor_msgs::PointCloud2::ConstPtr& points,
+                 const sensor_msgs::PointCloud2::ConstPtr& reference);
+  void SubscribeRigs(uint32_t queue);
   void OnPointsSeen(const sensor_msgs::PointCloud2::ConstPtr& msg);
   void ExpirePending(const ros::WallTimerEvent&);
   void Publish(const RegistrarResult& result, const ros::Time& stamp, double total_ms);
   // The outline's alignment on aar/outline_pose and its counts for /diagnostics.
-  void PublishOutline(const RegistrarResult& result, const std_msgs::Header& cloud_header);
+  void PublishOutline(const RegistrarResult& result, const ros::Time& stamp);
   void PublishModels();
   // Shells the static reference once the cameras' tf is there (waiting up to `tf_wait` [s]):
   // true when built. Until then the frames have no estimate and a timer tries again.
@@ -98,12 +118,21 @@ class RegistrationNode {
   tf2_ros::TransformListener tf_listener_;
   tf2_ros::TransformBroadcaster tf_broadcaster_;
   ros::Publisher pose_pub_, estimate_pub_, models_pub_, outline_pub_;
-  std::unique_ptr<OutlineInputs> outline_;  // registrar.outline.enabled
+  std::unique_ptr<OutlineInputs> outline_;                     // registrar.outline.enabled
+  std::vector<std::unique_ptr<OutlineInputs>> more_outlines_;  // further rigs'
   ros::Subscriber cloud_sub_;
   using Sync =
       message_filters::TimeSynchronizer<sensor_msgs::PointCloud2, sensor_msgs::PointCloud2>;
   message_filters::Subscriber<sensor_msgs::PointCloud2> points_filter_, reference_filter_;
   std::unique_ptr<Sync> sync_;
+  // Further rigs (rigs beyond the first): their clouds and references, paired by stamp.
+  struct RigInputs {
+    message_filters::Subscriber<sensor_msgs::PointCloud2> points, reference;
+    std::unique_ptr<Sync> sync;
+  };
+  std::vector<std::unique_ptr<RigInputs>> rig_inputs_;
+  std::unique_ptr<RigGather> gather_;  // more than one rig; under pending_mutex_
+  std::vector<size_t> rig_missing_;    // frames registered without each rig's cloud
   ros::WallTimer pending_timer_;
   ros::WallTimer reference_timer_;  // retries TryBuildStaticReference
   ros::WallTime reference_wait_since_;

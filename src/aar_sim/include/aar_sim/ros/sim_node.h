@@ -47,8 +47,9 @@ struct SimNodeOptions {
   // Free-running: seconds of path time per wall second (1: real time; below 1 the flight and its
   // clock run slower, for a machine or a build that cannot keep up).
   double realtime_factor = 1.0;
-  bool wait_for_subscribers = false;  // hold frame 0 until both images have a subscriber
-  double start_delay = 0.0;           // [s wall] then wait this long (other listeners connecting)
+  bool wait_for_subscribers =
+      false;                 // hold frame 0 until both images of every rig have a subscriber
+  double start_delay = 0.0;  // [s wall] then wait this long (other listeners connecting)
   bool publish_labels =
       false;  // also /stereo/{left,right}/label (mono8: 0 sky, 1 receiver, 2 boom)
   // Also /sim/visibility (aar_msgs/Visibility): how much of the receiver the boom hides in each
