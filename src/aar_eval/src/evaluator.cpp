@@ -99,9 +99,12 @@ std::vector<SettledFrame> Evaluator::SettleAll(const TruthLookup& truth) {
   return out;
 }
 
-bool Evaluator::AddVisibility(int64_t stamp_ns, const std::vector<CameraVisibility>& views) {
+bool Evaluator::AddVisibility(int64_t stamp_ns, const std::vector<CameraVisibility>& views,
+                              size_t rig) {
   if (settled_.count(stamp_ns)) return false;
-  visibility_[stamp_ns] = views;
+  auto& rigs = visibility_[stamp_ns];
+  if (rigs.size() <= rig) rigs.resize(rig + 1);
+  rigs[rig] = views;
   visibility_seen_ = true;
   return true;
 }
@@ -110,23 +113,29 @@ namespace {
 
 // The view that saw most of the receiver (most visible pixels; of equals, the larger share),
 // into the frame's record (0 pixels and a NaN share when none saw it), and the least share of
-// any view (a view without the receiver in it: 0). By pixels, not by share: a sliver at the
-// image's edge, wholly visible, is not the better view of a receiver another camera sees whole.
-void TakeBestView(const std::vector<CameraVisibility>& views, FrameRecord& f) {
+// any view of a rig (a view without the receiver in it: 0), of the rig where that is most. By
+// pixels, not by share: a sliver at the image's edge, wholly visible, is not the better view of a
+// receiver another camera sees whole.
+void TakeBestView(const std::vector<std::vector<CameraVisibility>>& rigs, FrameRecord& f) {
   f.visible_px = 0.0;
-  double least = std::numeric_limits<double>::infinity();
-  for (const CameraVisibility& v : views) {
-    const double share =
-        v.silhouette_px > 0 ? static_cast<double>(v.visible_px) / v.silhouette_px : 0.0;
-    least = std::min(least, share);
-    if (v.silhouette_px <= 0) continue;
-    if (std::isnan(f.visible_fraction) || v.visible_px > f.visible_px ||
-        (v.visible_px == f.visible_px && share > f.visible_fraction)) {
-      f.visible_fraction = share;
-      f.visible_px = v.visible_px;
+  double best_least = -std::numeric_limits<double>::infinity();
+  for (const std::vector<CameraVisibility>& views : rigs) {
+    if (views.empty()) continue;  // this rig's did not come
+    double least = std::numeric_limits<double>::infinity();
+    for (const CameraVisibility& v : views) {
+      const double share =
+          v.silhouette_px > 0 ? static_cast<double>(v.visible_px) / v.silhouette_px : 0.0;
+      least = std::min(least, share);
+      if (v.silhouette_px <= 0) continue;
+      if (std::isnan(f.visible_fraction) || v.visible_px > f.visible_px ||
+          (v.visible_px == f.visible_px && share > f.visible_fraction)) {
+        f.visible_fraction = share;
+        f.visible_px = v.visible_px;
+      }
     }
+    best_least = std::max(best_least, least);
   }
-  if (!std::isnan(f.visible_fraction)) f.visible_fraction_least = least;  // else in no view
+  if (!std::isnan(f.visible_fraction)) f.visible_fraction_least = best_least;  // else in no view
 }
 
 }  // namespace

@@ -272,5 +272,21 @@ TEST(Evaluator, VisibilityOfTheBestViewIsRecorded) {
   EXPECT_TRUE(std::isnan(eval.SettleAll(Truth)[0].record.visible_px));  // never measured
 }
 
+// Two rigs (issue 44): the best view of either, and the weaker camera of the rig that sees most
+// with both (the first rig's cameras 10 % and 90 %, the second's 80 % and 70 %: 70 %).
+TEST(Evaluator, VisibilityOfTwoRigsTakesTheRigThatSeesWithBoth) {
+  Evaluator eval(1.0, 2);
+  eval.AddFrame(2 * kSecond);
+  EXPECT_TRUE(eval.AddVisibility(2 * kSecond, {{1000, 100}, {1000, 900}}));
+  EXPECT_TRUE(eval.AddVisibility(2 * kSecond, {{1000, 800}, {1000, 700}}, 1));
+  eval.AddFrame(3 * kSecond);  // the second rig's never came: the first rig's alone
+  EXPECT_TRUE(eval.AddVisibility(3 * kSecond, {{1000, 100}, {1000, 900}}));
+  const auto settled = eval.SettleAll(Truth);
+  ASSERT_EQ(settled.size(), 2u);
+  EXPECT_EQ(settled[0].record.visible_fraction, 0.9);
+  EXPECT_EQ(settled[0].record.visible_fraction_least, 0.7);
+  EXPECT_EQ(settled[1].record.visible_fraction_least, 0.1);
+}
+
 }  // namespace
 }  // namespace aar_eval

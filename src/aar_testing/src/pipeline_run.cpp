@@ -39,6 +39,13 @@ PipelineRun RunPipeline(const std::string& tag, const std::string& args, double 
     run.error = run.output_dir + "/frames.csv missing (log: " + run.output_dir + ".log)";
   std::string line;
   std::getline(csv, line);  // t,range_m,region,estimated,x_m,y_m,z_m,roll_deg,pitch_deg,yaw_deg,...
+  int least_column = -1;    // visible_fraction_least, by name
+  {
+    std::stringstream header(line);
+    int i = 0;
+    for (std::string name; std::getline(header, name, ','); ++i)
+      if (name == "visible_fraction_least") least_column = i;
+  }
   while (std::getline(csv, line)) {
     std::vector<std::string> f;
     std::stringstream s(line);
@@ -48,6 +55,8 @@ PipelineRun RunPipeline(const std::string& tag, const std::string& args, double 
     e.t = std::stod(f[0]);
     e.range_m = std::stod(f[1]);
     e.estimated = f[3] == "1";
+    if (least_column >= 0 && least_column < static_cast<int>(f.size()) && !f[least_column].empty())
+      e.visible_fraction_least = std::stod(f[least_column]);
     if (e.estimated) {
       e.position_m = {std::stod(f[4]), std::stod(f[5]), std::stod(f[6])};
       e.rpy_deg = {std::stod(f[7]), std::stod(f[8]), std::stod(f[9])};

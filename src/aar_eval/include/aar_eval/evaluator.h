@@ -86,10 +86,12 @@ class Evaluator {
   bool AddEstimate(int64_t stamp_ns, const Estimate& estimate);
   // A stage's report on a frame; false when the frame is already settled.
   bool AddOutcome(int64_t stamp_ns, const StageOutcome& outcome);
-  // The simulator's visibility of the receiver in the frame's views; false when the frame is
-  // already settled. The frame's record takes the view with the most visible pixels. From the
-  // first one on, a frame waits for its visibility before it settles (or settle_after).
-  bool AddVisibility(int64_t stamp_ns, const std::vector<CameraVisibility>& views);
+  // The simulator's visibility of the receiver in the views of rig `rig` (0: the first; issue
+  // 44); false when the frame is already settled. The frame's record takes the view with the
+  // most visible pixels of any rig, and the weaker camera of the rig whose weaker camera sees
+  // most (stereo needs both of one rig). From the first one on, a frame waits for its
+  // visibility before it settles (or settle_after).
+  bool AddVisibility(int64_t stamp_ns, const std::vector<CameraVisibility>& views, size_t rig = 0);
 
   // The frames that are settled at `now_s`, in stamp order.
   std::vector<SettledFrame> SettleReady(double now_s, const TruthReady& ready,
@@ -119,8 +121,9 @@ class Evaluator {
   std::deque<Announced> frames_;  // announced, not yet settled
   std::set<int64_t> settled_;
   std::map<int64_t, Estimate> estimates_;
-  std::map<int64_t, std::vector<StageOutcome>> outcomes_;        // the stages' reports per frame
-  std::map<int64_t, std::vector<CameraVisibility>> visibility_;  // per frame, until settled
+  std::map<int64_t, std::vector<StageOutcome>> outcomes_;  // the stages' reports per frame
+  // Per frame, until settled: each rig's views.
+  std::map<int64_t, std::vector<std::vector<CameraVisibility>>> visibility_;
   bool visibility_seen_ = false;  // a visibility came: the simulator measures it
   std::vector<LedgerEntry> ledger_;
   std::vector<FrameRecord> records_;

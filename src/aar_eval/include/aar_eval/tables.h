@@ -49,7 +49,8 @@ struct FrameRecord {
   double visible_fraction = std::numeric_limits<double>::quiet_NaN();
   double visible_px = std::numeric_limits<double>::quiet_NaN();
   // The same share in the camera that saw least of it (a camera without the receiver in view,
-  // while another has it: 0): stereo needs both views. NaN as above.
+  // while another has it: 0): stereo needs both views. With more rigs, that of the rig whose
+  // weaker camera saw most. NaN as above.
   double visible_fraction_least = std::numeric_limits<double>::quiet_NaN();
 };
 

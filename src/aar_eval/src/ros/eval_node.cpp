@@ -51,7 +51,13 @@ EvalNode::EvalNode(ros::NodeHandle nh, const EvalNodeOptions& options)
   estimate_sub_ = nh_.subscribe("aar/pose_estimate", 100, &EvalNode::OnEstimate, this);
   outcome_sub_ =
       nh_.subscribe(aar_ros_common::kFrameOutcomeTopic, 1000, &EvalNode::OnOutcome, this);
-  visibility_sub_ = nh_.subscribe("sim/visibility", 100, &EvalNode::OnVisibility, this);
+  visibility_sub_ = nh_.subscribe<aar_msgs::Visibility>(
+      "sim/visibility", 100,
+      [this](const aar_msgs::Visibility::ConstPtr& msg) { OnVisibility(msg, 0); });
+  for (size_t i = 1; i < options_.rigs.size(); ++i)
+    rig_visibility_subs_.push_back(nh_.subscribe<aar_msgs::Visibility>(
+        "sim/" + options_.rigs[i] + "/visibility", 100,
+        [this, i](const aar_msgs::Visibility::ConstPtr& msg) { OnVisibility(msg, i); }));
   tf_sub_ = nh_.subscribe("/tf", 1000, &EvalNode::OnTf, this);
   // A static truth (a test's) holds at every stamp: no outage to guard against.
   tf_static_sub_ = nh_.subscribe<tf2_msgs::TFMessage>(
@@ -73,6 +79,7 @@ EvalNode::~EvalNode() {
   estimate_sub_.shutdown();
   outcome_sub_.shutdown();
   visibility_sub_.shutdown();
+  for (auto& sub : rig_visibility_subs_) sub.shutdown();
   tf_sub_.shutdown();
   tf_static_sub_.shutdown();
   std::lock_guard<std::mutex> lock(mutex_);
@@ -231,7 +238,7 @@ void EvalNode::OnOutcome(const aar_msgs::FrameOutcome::ConstPtr& msg) {
   Settle();
 }
 
-void EvalNode::OnVisibility(const aar_msgs::Visibility::ConstPtr& msg) {
+void EvalNode::OnVisibility(const aar_msgs::Visibility::ConstPtr& msg, size_t rig) {
   const size_t n = msg->camera.size();
   std::vector<CameraVisibility> views;
   for (size_t i = 0; i < n && msg->silhouette_px.size() == n && msg->visible_px.size() == n; ++i) {
@@ -247,7 +254,7 @@ void EvalNode::OnVisibility(const aar_msgs::Visibility::ConstPtr& msg) {
     return;
   }
   std::lock_guard<std::mutex> lock(mutex_);
-  if (!evaluator_.AddVisibility(ToNs(msg->header.stamp), views)) {
+  if (!evaluator_.AddVisibility(ToNs(msg->header.stamp), views, rig)) {
     ROS_WARN_STREAM("eval: the visibility of stamp " << msg->header.stamp
                                                      << " came after its frame settled: left out");
     return;

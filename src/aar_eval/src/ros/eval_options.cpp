@@ -23,6 +23,8 @@ EvalNodeOptions LoadEvalNodeOptions(aar_ros_common::ParamReader& params) {
   o.truth_tolerance = params.GetNonNegative("truth_tolerance", o.truth_tolerance);
   o.truth_frame = params.Get("truth_frame", o.truth_frame);
   o.tanker_frame = params.Get("tanker_frame", o.tanker_frame);
+  o.rigs = params.Get("rigs", o.rigs);
+  params.Check(!o.rigs.empty(), "rigs", "must name at least one rig");
   params.RejectUnknown();
   return o;
 }

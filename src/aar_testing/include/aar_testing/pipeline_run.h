@@ -1,5 +1,6 @@
 #pragma once
 
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -14,6 +15,9 @@ struct PipelineFrame {
   bool estimated = false;
   Eigen::Vector3d position_m = Eigen::Vector3d::Zero();  // error along the true receiver axes
   Eigen::Vector3d rpy_deg = Eigen::Vector3d::Zero();     // roll, pitch, yaw of the error
+  // The simulator's: the share of the receiver the weaker camera of the best rig sees (NaN: not
+  // measured).
+  double visible_fraction_least = std::numeric_limits<double>::quiet_NaN();
 };
 
 struct PipelineRun {

@@ -5,6 +5,7 @@
 #include <mutex>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <set>
 
@@ -43,6 +44,8 @@ struct EvalNodeOptions {
   double truth_tolerance = 0.02;
   std::string truth_frame = "receiver_truth";
   std::string tanker_frame = "tanker";
+  // The stereo rigs (issue 44): a further rig R's visibility comes on sim/R/visibility.
+  std::vector<std::string> rigs = {"stereo"};
 };
 
 // Reads ~parameters (one function, unknown keys rejected); throws std::invalid_argument.
@@ -70,7 +73,7 @@ class EvalNode {
   bool NoStranger(const ros::Time& stamp);
   void OnOutcome(const aar_msgs::FrameOutcome::ConstPtr& outcome);
   // The simulator's /sim/visibility; a malformed one is named and left out.
-  void OnVisibility(const aar_msgs::Visibility::ConstPtr& visibility);
+  void OnVisibility(const aar_msgs::Visibility::ConstPtr& visibility, size_t rig);
   void OnTf(const tf2_msgs::TFMessage::ConstPtr& tf);
   void Settle();                                          // mutex_ held
   void Record(const std::vector<SettledFrame>& settled);  // mutex_ held
@@ -84,6 +87,7 @@ class EvalNode {
   tf2_ros::TransformListener listener_;
   ros::Publisher error_pub_;
   ros::Subscriber frame_sub_, estimate_sub_, outcome_sub_, visibility_sub_, tf_sub_, tf_static_sub_;
+  std::vector<ros::Subscriber> rig_visibility_subs_;  // further rigs'
   ros::WallTimer settle_timer_;
   std::mutex mutex_;
   Evaluator evaluator_;
