@@ -280,6 +280,20 @@ TEST(StartUp, WaitsForTheCameraTfThenEstimates) {
 
 // reference: topic: each cloud is registered to the reference of its own stamp, to the points
 // both cameras see (visibility 0); a cloud whose reference never comes gets an invalid estimate.
+// The estimate of `stamp` once it has come (null: none within 10 s).
+aar_msgs::PoseEstimate::ConstPtr WaitForEstimate(
+    aar_testing::StampedCollector<aar_msgs::PoseEstimate>& estimates, const ros::Time& stamp) {
+  const ros::WallTime until = ros::WallTime::now() + ros::WallDuration(10.0);
+  while (ros::WallTime::now() < until) {
+    {
+      std::lock_guard<std::mutex> lock(estimates.mutex);
+      if (estimates.by_stamp.count(stamp)) return estimates.by_stamp.at(stamp);
+    }
+    ros::WallDuration(0.01).sleep();
+  }
+  return nullptr;
+}
+
 TEST(TopicReference, PairsByStampUsesClassZeroAndAnswersWithoutReference) {
   ros::NodeHandle nh;
   ros::Publisher clouds = nh.advertise<sensor_msgs::PointCloud2>("/points", 5);
@@ -294,17 +308,7 @@ TEST(TopicReference, PairsByStampUsesClassZeroAndAnswersWithoutReference) {
       },
       30.0);
   ASSERT_GT(references.getNumSubscribers(), 0u);
-  auto wait_for = [&](const ros::Time& stamp) {
-    const ros::WallTime until = ros::WallTime::now() + ros::WallDuration(10.0);
-    while (ros::WallTime::now() < until) {
-      {
-        std::lock_guard<std::mutex> lock(estimates.mutex);
-        if (estimates.by_stamp.count(stamp)) return estimates.by_stamp.at(stamp);
-      }
-      ros::WallDuration(0.02).sleep();
-    }
-    return aar_msgs::PoseEstimate::ConstPtr();
-  };
+  auto wait_for = [&](const ros::Time& stamp) { return WaitForEstimate(estimates, stamp); };
   const std::vector<Eigen::Vector3f> shape = ReceiverShape();
   // No reference: answered (invalid) after reference_timeout.
   const auto alone = Cloud("sensor", shape);
@@ -371,17 +375,7 @@ TEST(TwoRigs, CloudsGatheredByStampAndALateRigWaitedForOnlySoLong) {
       },
       30.0);
   ASSERT_GT(second_references.getNumSubscribers(), 0u);
-  auto wait_for = [&](const ros::Time& stamp) {
-    const ros::WallTime until = ros::WallTime::now() + ros::WallDuration(10.0);
-    while (ros::WallTime::now() < until) {
-      {
-        std::lock_guard<std::mutex> lock(estimates.mutex);
-        if (estimates.by_stamp.count(stamp)) return estimates.by_stamp.at(stamp);
-      }
-      ros::WallDuration(0.01).sleep();
-    }
-    return aar_msgs::PoseEstimate::ConstPtr();
-  };
+  auto wait_for = [&](const ros::Time& stamp) { return WaitForEstimate(estimates, stamp); };
   // Each rig sees half of the receiver (both "sensor" mounted: one frame for both here); both
   // references are the whole shape, so their union is the shape once.
   const std::vector<Eigen::Vector3f> shape = ReceiverShape();
