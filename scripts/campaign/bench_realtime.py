@@ -14,6 +14,10 @@ fewer than 99 % of the frames estimated, or a p95 latency of 50 ms or more. Resu
 DIR/<config>/speed-<S>/ when more than one speed runs, else to DIR/<config>/.
 The bag (default rosbags/cache/realtime-<path>-<rate>hz.bag, 1280x960 as config/sim.yaml) is
 recorded once, in lockstep, and reused while the flight path and config/sim.yaml are unchanged.
+A configuration with more than one rig (flight_two_rigs; issue 44): the bag holds every rig of
+the configuration with the most (<path>-<rate>hz-<further rigs>.bag, recorded with that
+configuration, reused while its rigs' mounts are unchanged too); each configuration replays its
+own rigs from it (one rig: the first only); every configuration's rigs must be among its.
 Ends with one line per configuration and speed, the first configuration last:
   realtime: <config> <N> frames at <rate> Hz, speed <S>, estimated <E>, dropped <D>, latency p50 <a> ms p95 <b> ms p99 <c> ms
 and with --headroom one per configuration, the highest speed passed (none: not even speed 1):
@@ -23,6 +27,7 @@ and with --headroom one per configuration, the highest speed passed (none: not e
 import csv
 import glob
 import hashlib
+import json
 import math
 import os
 import re
@@ -30,10 +35,12 @@ import shutil
 import signal
 import subprocess
 import sys
+import tempfile
 import time
 
 from campaign import arguments, bag, workspace
-from campaign.workspace import ROOT, fail, say
+from campaign.plan import CHECK_EXPERIMENT, experiment_rigs
+from campaign.workspace import ROOT, Refused, fail, say
 
 # Headroom: a speed is kept while at least 99 % of the bag's frames are estimated and p95 < 50 ms.
 MIN_ESTIMATED, MAX_P95_MS = 0.99, 50.0
@@ -79,6 +86,17 @@ def parse(argv):
     for c in a.names:
         if not os.path.isfile(os.path.join(ROOT, "config/experiments", c + ".yaml")):
             fail(f"no experiment '{c}' in config/experiments")
+    # Each configuration's rigs; the bag holds those of the one with the most, which must hold
+    # every other's.
+    try:
+        a.rigs = {c: experiment_rigs(c).split(",") for c in a.names}
+    except Refused as e:
+        fail(str(e))
+    a.most = max(a.names, key=lambda c: len(a.rigs[c]))
+    for c in a.names:
+        if not set(a.rigs[c]) <= set(a.rigs[a.most]):
+            fail(f"configurations {a.most} and {c} fly different rigs ({','.join(a.rigs[a.most])}; "
+                 f"{','.join(a.rigs[c])}): one bag cannot serve both; bench them apart")
     return a
 
 
@@ -90,6 +108,20 @@ def sha256(path):
     return h.hexdigest()
 
 
+def sim_section(experiment):
+    """The experiment's sim settings (its rigs' mounts), resolved, as one line of JSON."""
+    import yaml
+    with tempfile.TemporaryDirectory() as d:
+        resolved = os.path.join(d, "resolved.yaml")
+        if subprocess.run([sys.executable, CHECK_EXPERIMENT,
+                           os.path.join(ROOT, "config/experiments", experiment + ".yaml"),
+                           "--resolved", resolved], stdout=subprocess.DEVNULL).returncode:
+            fail(f"experiment '{experiment}' refused (check_experiment.py)")
+        with open(resolved) as f:
+            tree = yaml.safe_load(f) or {}
+    return json.dumps(tree.get("sim", {}), sort_keys=True)
+
+
 def record(a, env):
     """The recording: reused while what it was made from is unchanged. Returns its frames."""
     stem = os.path.basename(a.flight_path)
@@ -98,12 +130,20 @@ def record(a, env):
     if a.sim_config:
         world = os.path.basename(a.sim_config)
         world = "-" + (world[:-5] if world.endswith(".yaml") else world)
-    a.bag = a.bag or os.path.join(ROOT, f"rosbags/cache/realtime-{stem}{world}-{a.rate}hz.bag")
+    # One rig: the recording flies tracking (any experiment's images are the simulator's); more:
+    # the configuration with the most rigs, whose sim flies them, and the bag is theirs.
+    rigs = a.rigs[a.most]
+    experiment = "tracking" if len(rigs) == 1 else a.most
+    further = "".join("-" + r for r in rigs[1:])
+    a.bag = a.bag or os.path.join(ROOT, f"rosbags/cache/realtime-{stem}{world}-{a.rate}hz"
+                                  f"{further}.bag")
     os.makedirs(os.path.dirname(a.bag), exist_ok=True)
     sources = [a.flight_path, os.path.join(ROOT, "config/sim.yaml")] + \
         ([a.sim_config] if a.sim_config else [])
     made_from = "".join(sha256(f) + " " for f in sources) + \
         f" rate {a.rate}, re-timed to the stamps"
+    if len(rigs) > 1:
+        made_from += f", rigs {','.join(rigs)} {sim_section(experiment)}"
     try:
         with open(a.bag + ".source") as f:
             recorded_from = f.read().rstrip("\n")
@@ -111,14 +151,14 @@ def record(a, env):
         recorded_from = None
     if not os.path.isfile(a.bag) or recorded_from != made_from:
         say(f"recording {a.flight_path} at {a.rate} Hz into {a.bag} (once; lockstep, a few "
-            "minutes)")
+            f"minutes; {experiment}, rigs {','.join(rigs)})")
         for f in (a.bag, a.bag + ".source"):
             if os.path.lexists(f):
                 os.remove(f)
         with open(os.path.join(a.out, "recording.log"), "w") as log:
             status = subprocess.run(
                 [sys.executable, os.path.join(ROOT, "scripts/campaign"), "fly", "--experiment",
-                 "tracking", "--flight-path", a.flight_path, "--rate", a.rate, "--sim-config",
+                 experiment, "--flight-path", a.flight_path, "--rate", a.rate, "--sim-config",
                  a.sim_config, "--out", os.path.join(a.out, "recording"), "record:=" + a.bag],
                 stdout=log, stderr=subprocess.STDOUT, stdin=subprocess.DEVNULL, cwd=ROOT,
                 env=env).returncode
@@ -146,6 +186,9 @@ def record(a, env):
     frames = bag.topic_messages(info, "/stereo/left/image_rect")
     if frames <= 0:
         fail(f"bag '{a.bag}' has no left images")
+    held = bag.rigs_of(info)
+    if any(r not in held for r in rigs):
+        fail(f"bag '{a.bag}' holds the rigs {','.join(held)}, {a.most} flies {','.join(rigs)}")
     return frames
 
 
@@ -572,7 +615,8 @@ def replay(a, env, name, speed, frames, running):
     with open(os.path.join(folder, "launch.log"), "w") as log:
         launch = subprocess.Popen(
             ["roslaunch", "-p", port, "launch/replay.launch", f"bag:={a.bag}",
-             f"experiment:={name}", f"rate:={speed}", "realtime:=true", f"output_dir:={folder}",
+             f"experiment:={name}", f"rigs:={','.join(a.rigs[name])}", f"rate:={speed}",
+             "realtime:=true", f"output_dir:={folder}",
              f"expected_frames:={frames}", f"probe:={folder}/probe.csv",
              f"probe_stages:={'false' if a.no_stage_times else 'true'}"],
             stdout=log, stderr=subprocess.STDOUT, stdin=subprocess.DEVNULL, cwd=ROOT, env=master)

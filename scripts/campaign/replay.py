@@ -6,6 +6,9 @@ main job does. Checks the bag first: a missing topic, a bag without camera infos
                  [--tf-outage START,DURATION] [--no-truth] [--no-build]
 A bag of raw images (image_raw and their calibrated camera infos, as a rig's drivers publish
 them) is rectified by image_proc in front of aar_stereo (replay.launch rectify:=true).
+Rigs (issue 44): the bag's are those with left images (/R/left/image_rect, stereo first); the
+experiment's (its sim rigs) are replayed (replay.launch rigs:=), a bag's further rig that the
+experiment does not fly is left out; a bag without one of the experiment's rigs is refused.
 --no-truth: the bag has no truth (a rig's flight): no eval and no error tables; every estimate
 goes to DIR/E/estimates.csv and DIR/report.md counts them.
 --compare (default: BAG with .EXPERIMENT.live.csv, if present) prints the largest per-frame
@@ -27,7 +30,8 @@ import sys
 import time
 
 from campaign import arguments, bag, workspace
-from campaign.workspace import ROOT, fail, say
+from campaign.plan import experiment_rigs
+from campaign.workspace import ROOT, Refused, fail, say
 
 
 def parse(argv):
@@ -126,7 +130,8 @@ def run_txt(a, frames, images):
     with open(os.path.join(a.out, "run.txt"), "w") as f:
         f.write(f"date (UTC): {workspace.utc_now()}\n"
                 f"commit: {sha.stdout.strip() if sha.returncode == 0 else 'unknown'}\n"
-                f"command: {command}\nbag: {a.bag} ({frames} frames of {images})\n"
+                f"command: {command}\nbag: {a.bag} ({frames} frames of {images}"
+                f"{', rigs ' + ','.join(a.rigs) if len(a.rigs) > 1 else ''})\n"
                 f"machine: {len(os.sched_getaffinity(0))} cores, {gib} GiB, {u.sysname} "
                 f"{u.release}\n")
 
@@ -156,7 +161,7 @@ def fly(a, env, frames, images, rectify):
              f"experiment:={a.experiment}", f"rate:={a.rate}", f"output_dir:={folder}",
              f"expected_frames:={frames}", f"tf_outage_start:={a.outage_start}",
              f"tf_outage_duration:={a.outage_duration}",
-             f"rectify:={'true' if rectify else 'false'}",
+             f"rectify:={'true' if rectify else 'false'}", f"rigs:={','.join(a.rigs)}",
              f"truth:={'false' if a.no_truth else 'true'}"],
             stdout=log, stderr=subprocess.STDOUT, stdin=subprocess.DEVNULL, cwd=ROOT,
             env=dict(env, ROS_MASTER_URI=f"http://localhost:{port}"))
@@ -306,6 +311,24 @@ def with_truth(a, env, frames):
     return status
 
 
+def rigs_for(a, held):
+    """The experiment's rigs (its sim rigs), each of which the bag must hold (HELD); a further
+    rig of the bag's that the experiment does not fly is left out."""
+    try:
+        wanted = experiment_rigs(a.experiment).split(",")
+    except Refused as e:
+        fail(str(e))
+    if any(r not in held for r in wanted):
+        fail(f"experiment '{a.experiment}' flies the rigs {','.join(wanted)}, but bag '{a.bag}' "
+             f"holds {','.join(held) or 'no rig'} (a rig R: /R/left/image_rect): record one "
+             f"with them (pipeline.launch rigs:={','.join(wanted)} record:=FILE), or replay an "
+             "experiment of the bag's rigs")
+    if len(held) > len(wanted):
+        say(f"the bag holds the rigs {','.join(held)}; {a.experiment} flies "
+            f"{','.join(wanted)}: the others are not replayed")
+    return wanted
+
+
 def main(argv):
     workspace.PROG = "replay"
     a = parse(argv)
@@ -314,8 +337,13 @@ def main(argv):
         workspace.setup_and_build()
     env = workspace.ros_env()
     # The bag: readable, and holding what the graph needs.
-    images, rectify, frames = bag.check(a.bag)
+    info = bag.read(a.bag)
+    a.rigs = rigs_for(a, bag.rigs_of(info))
+    images, rectify, frames = bag.check(a.bag, a.rigs, info)
     if rectify:
+        if len(a.rigs) > 1:
+            fail("the bag holds raw images: a further rig's are not rectified (launch/include/"
+                 "rig.launch has no image_proc)")
         say("the bag holds raw images (image_raw): image_proc rectifies them with the bag's "
             "camera infos in front of aar_stereo")
     folder = os.path.join(a.out, a.experiment)

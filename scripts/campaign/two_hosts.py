@@ -19,6 +19,9 @@ seconds with --give-up S: then exit 1); then the graph (experiment E, default fl
 --split (both hosts the same; default images): images: the images cross the link, stereo runs
 on the perception host; cloud: the camera host runs stereo too (experiment E's settings) and
 only the cloud /stereo/points2 crosses the link (22 times less than the images at 47 to 44 m).
+Rigs (issue 44): the experiment's sim rigs (flight_two_rigs: stereo,share_mirror) on both hosts
+(the launches' rigs:=): the simulator flies them, a --bag must hold them, and each rig's images
+(or with cloud its /R/points2) cross the link.
 Firewall (both hosts; docs/MULTI_HOST.md, "Threat model"): an nftables table of its own (inet
 aar_two_hosts) lets only the other host, --peer ADDR, on this host's link (ADDR's interface),
 and loopback reach the ROS ports (the master's port, the nodes' ephemeral ports); it is removed
@@ -60,8 +63,9 @@ import sys
 import time
 import xmlrpc.client
 
-from campaign import arguments, workspace
-from campaign.workspace import ROOT
+from campaign import arguments, bag as bags, workspace
+from campaign.plan import experiment_rigs
+from campaign.workspace import ROOT, Refused
 
 NUMBER = re.compile(r"[0-9]+([.][0-9]+)?")
 TABLE = "aar_two_hosts"
@@ -104,8 +108,13 @@ def check_peer(mode, peer, own):
 
 
 def check_experiment(mode, experiment):
+    """The experiment's stereo rigs (its sim rigs, as the launches' rigs:= takes them)."""
     if not os.path.isfile(os.path.join(ROOT, "config/experiments", experiment + ".yaml")):
         bad(f"{mode}: --experiment: no experiment '{experiment}' in config/experiments/")
+    try:
+        return experiment_rigs(experiment)
+    except Refused as e:
+        bad(f"{mode}: --experiment: {e}")
 
 
 def check_split(mode, split):
@@ -266,7 +275,12 @@ def camera(argv):
     if not (NUMBER.fullmatch(a.bag_rate) and float(a.bag_rate) > 0):
         bad(f"camera: --bag-rate takes a positive speed factor, not '{a.bag_rate}'")
     check_split("camera", a.split)
-    check_experiment("camera", a.experiment)
+    rigs = check_experiment("camera", a.experiment)
+    if bag and rigs != "stereo":  # each of the experiment's rigs in the bag
+        held = bags.rigs_of(bags.read(bag))
+        if any(r not in held for r in rigs.split(",")):
+            bad(f"camera: experiment '{a.experiment}' flies the rigs {rigs}, but --bag '{bag}' "
+                f"holds {','.join(held) or 'no rig'}")
     if not a.ip:
         bad("camera: --ip ADDR is needed (this host's address on the link)")
     check_local_ip("camera", a.ip)
@@ -289,7 +303,7 @@ def camera(argv):
         "roslaunch", "-p", a.port, os.path.join(ROOT, "launch/camera_host.launch"),
         f"flight_path:={path}", f"rate:={a.rate}", f"start_time:={a.start_time}", f"bag:={bag}",
         f"bag_rate:={a.bag_rate}", f"output_dir:={out}", f"rviz:={str(a.rviz).lower()}",
-        f"split:={a.split}", f"experiment:={a.experiment}"], env)
+        f"split:={a.split}", f"experiment:={a.experiment}", f"rigs:={rigs}"], env)
 
 
 # --- perception ------------------------------------------------------------------------------
@@ -327,7 +341,7 @@ def perception(argv):
             f"not '{a.master}'")
     if a.ip and not valid_ip(a.ip):
         bad(f"perception: --ip takes an IPv4 address, not '{a.ip}'")
-    check_experiment("perception", a.experiment)
+    rigs = check_experiment("perception", a.experiment)
     if not re.fullmatch(r"[0-9]{1,6}", a.give_up):
         bad(f"perception: --give-up takes whole seconds (0: never), not '{a.give_up}'")
     check_split("perception", a.split)
@@ -367,7 +381,7 @@ def perception(argv):
     return run_host(not a.no_firewall, a.ip, peer, port, [
         "roslaunch", os.path.join(ROOT, "launch/perception_host.launch"),
         f"experiment:={a.experiment}", f"manager:={str(not a.no_manager).lower()}",
-        f"split:={a.split}"], env)
+        f"split:={a.split}", f"rigs:={rigs}"], env)
 
 
 # --- netns -----------------------------------------------------------------------------------
@@ -427,6 +441,7 @@ class Netns:
         self.probe_env = ["env", f"ROS_IP={self.ip_cam}", f"ROS_MASTER_URI={self.master}"]
         self.env = workspace.ros_env()
         self.sfx, self.split, self.tx = "", "", {}
+        self.rigs = a.rigs.split(",")
         self.cam = self.probe = None
         self.orphans = []  # processes started and not waited for (perception hosts, killed)
 
@@ -823,12 +838,12 @@ class Netns:
         self.probe_csv = f"{self.out}/probe{self.sfx}.csv"
         self.start_hosts()
         time.sleep(2)
-        if split == "images":
-            self.sizes("/stereo/left/image_rect", "/stereo/right/image_rect",
-                       "/stereo/left/camera_info", "/stereo/right/camera_info", "/tf",
-                       "/joint_states")
+        if split == "images":  # every rig's (issue 44)
+            self.sizes(*[f"/{r}/{side}/{kind}" for r in self.rigs
+                         for kind in ("image_rect", "camera_info") for side in ("left", "right")],
+                       "/tf", "/joint_states")
         else:
-            self.sizes("/stereo/points2", "/aar/pose_estimate", "/tf")
+            self.sizes(*[f"/{r}/points2" for r in self.rigs], "/aar/pose_estimate", "/tf")
         self.measure(f"split {split}, phase 1")
         self.say_sizes()
         self.say_split()
@@ -937,7 +952,7 @@ def netns(argv):
     if a.split not in ("images", "cloud", "both"):
         bad(f"netns: --split takes images, cloud or both, not '{a.split}'")
     a.splits = ["images", "cloud"] if a.split == "both" else [a.split]
-    check_experiment("netns", a.experiment)
+    a.rigs = check_experiment("netns", a.experiment)
     if os.geteuid() != 0:
         bad("netns: needs root (ip netns add, ip link add)")
     if not shutil.which("ip"):

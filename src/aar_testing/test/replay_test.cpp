@@ -64,6 +64,67 @@ TEST(Replay, SampleBagReproducesTheLiveRun) {
   EXPECT_TRUE(std::filesystem::exists(out + "/report.md"));
 }
 
+// Issue 44: a bag of two rigs (flight_two_rigs, its live run recorded with
+// rigs:=stereo,share_mirror: 15 lockstep frames at 10 Hz from 168 m, far out) holds the further
+// rig's cameras, scripts/replay finds both rigs in it and replays flight_two_rigs with them: the
+// replay reproduces the live run's frames.csv (scripts/make-sample-bag writes it beside the bag). A
+// one-rig experiment replays rig 0 of the same bag; a bag without the further rig is refused,
+// naming both.
+TEST(Replay, TwoRigBagReproducesTheLiveRun) {
+  const std::string dir = ::testing::TempDir() + "/replay_two_rigs";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  const std::string bag = dir + "/two_rigs.bag";
+  const Result made =
+      Sh(Timeout(240) + kRoot + "/scripts/make-sample-bag --no-build --experiment flight_two_rigs" +
+         " --start 0 --frames 15 --out " + bag);
+  std::printf("%s", made.output.c_str());
+  ASSERT_EQ(made.status, 0);
+  EXPECT_NE(made.output.find("/share_mirror/left/image_rect"), std::string::npos);
+
+  const Result r = Sh(Timeout(240) + kRoot + "/scripts/replay --no-build --experiment " +
+                      "flight_two_rigs" + Rate(0.25) + bag + " --out " + dir + "/two");
+  std::printf("%s", r.output.c_str());
+  EXPECT_EQ(r.status, 0);
+  std::smatch m;
+  ASSERT_TRUE(
+      std::regex_search(r.output, m,
+                        std::regex("(\\d+) of (\\d+) frames compared, 0 differ in having an "
+                                   "estimate; largest difference ([0-9.e+-]+) m, "
+                                   "([0-9.e+-]+) deg")));
+  EXPECT_EQ(m[1], "15");
+  EXPECT_EQ(m[2], "15");
+  // 0 m and 0 deg measured: a lockstep recording through a deterministic graph, both rigs.
+  EXPECT_LE(std::stod(m[3]), 1e-6);
+  EXPECT_LE(std::stod(m[4]), 1e-6);
+  EXPECT_NE(r.output.find("(15 of 15 frames processed, 15 with an estimate)"), std::string::npos);
+
+  // flight (one rig) on the same bag: rig 0 only, every frame processed; its poses are not the
+  // two rigs' (so the comparison above tells whether the second rig was replayed).
+  const Result one =
+      Sh(Timeout(240) + kRoot + "/scripts/replay --no-build --experiment flight" + Rate(0.25) +
+         bag + " --compare " + dir + "/two_rigs.flight_two_rigs.live.csv --out " + dir + "/one");
+  std::printf("%s", one.output.c_str());
+  EXPECT_NE(one.output.find("the bag holds the rigs stereo,share_mirror; flight flies stereo"),
+            std::string::npos);
+  EXPECT_NE(one.output.find("(15 of 15 frames processed"), std::string::npos);
+  ASSERT_TRUE(std::regex_search(one.output, m,
+                                std::regex("15 of 15 frames compared, \\d+ differ in having an "
+                                           "estimate; largest difference ([0-9.e+-]+) m")));
+  EXPECT_GT(std::stod(m[1]), 0.9);  // 0.976 m measured (0.537 deg)
+
+  // The one-rig sample bag is refused for flight_two_rigs, before anything starts.
+  const Result refused =
+      Sh(Timeout(60) + kRoot + "/scripts/replay --no-build --experiment flight_two_rigs " + kRoot +
+         "/rosbags/sample_contact.bag --out " + dir + "/refused");
+  EXPECT_EQ(refused.status, 2) << refused.output;
+  EXPECT_NE(refused.output.find("experiment 'flight_two_rigs' flies the rigs stereo,share_mirror, "
+                                "but bag '" +
+                                kRoot + "/rosbags/sample_contact.bag' holds stereo"),
+            std::string::npos)
+      << refused.output;
+}
+
 // Frames without an estimate are not a success. At 20 times the recorded rate the graph falls
 // behind on 2 cores and drops frames; the script once said "30 of 30 frames" and exited 0 (it
 // counted rows, not estimates). Now it counts both and exits 3.
