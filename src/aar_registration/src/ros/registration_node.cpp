@@ -229,17 +229,18 @@ void RegistrationNode::OnPair(const sensor_msgs::PointCloud2::ConstPtr& points,
 
 void RegistrationNode::OnRigPair(size_t rig, const sensor_msgs::PointCloud2::ConstPtr& points,
                                  const sensor_msgs::PointCloud2::ConstPtr& reference) {
-  std::optional<RigGather::Frame> frame;
+  std::vector<RigGather::Frame> ready;
   {
     std::lock_guard<std::mutex> lock(pending_mutex_);
     // A rig's cloud after its frame was registered without it: counted there as missing.
     if (answered_.count(points->header.stamp)) return;
-    frame = gather_->Add(rig, points->header.stamp, {points, reference}, ros::WallTime::now());
-    if (!frame) return;
-    answered_.insert(frame->first);
-    pending_.erase(frame->first);
+    ready = gather_->Add(rig, points->header.stamp, {points, reference}, ros::WallTime::now());
+    for (const auto& frame : ready) {
+      answered_.insert(frame.first);
+      pending_.erase(frame.first);
+    }
   }
-  stage_->Hand(Input{frame->first, std::move(frame->second)});
+  for (auto& frame : ready) stage_->Hand(Input{frame.first, std::move(frame.second)});
 }
 
 void RegistrationNode::Process(const Input& input) {

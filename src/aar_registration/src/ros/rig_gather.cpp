@@ -2,9 +2,9 @@
 
 namespace aar_registration {
 
-std::optional<RigGather::Frame> RigGather::Add(size_t rig, const ros::Time& stamp, Cloud cloud,
-                                               ros::WallTime now) {
-  if (rig >= rigs_) return std::nullopt;
+std::vector<RigGather::Frame> RigGather::Add(size_t rig, const ros::Time& stamp, Cloud cloud,
+                                             ros::WallTime now) {
+  if (rig >= rigs_) return {};
   auto [it, added] = frames_.try_emplace(stamp);
   Held& held = it->second;
   if (added) {
@@ -13,8 +13,14 @@ std::optional<RigGather::Frame> RigGather::Add(size_t rig, const ros::Time& stam
   }
   if (!held.clouds[rig].points) ++held.count;
   held.clouds[rig] = std::move(cloud);
-  if (held.count < rigs_) return std::nullopt;
-  return Take(stamp);
+  if (held.count < rigs_) return {};
+  std::vector<Frame> ready;
+  while (frames_.begin()->first < stamp) {  // older frames: their late rigs are not waited for
+    ready.emplace_back(frames_.begin()->first, std::move(frames_.begin()->second.clouds));
+    frames_.erase(frames_.begin());
+  }
+  ready.push_back(*Take(stamp));
+  return ready;
 }
 
 std::vector<RigGather::Frame> RigGather::Expire(ros::WallTime now, double wait) {

@@ -25,9 +25,11 @@ class RigGather {
 
   explicit RigGather(size_t rigs) : rigs_(rigs) {}
 
-  // Rig `rig`'s cloud of `stamp`, first seen at `now`; the frame when it is complete (then no
-  // longer held). A second cloud of one rig and stamp replaces the first.
-  std::optional<Frame> Add(size_t rig, const ros::Time& stamp, Cloud cloud, ros::WallTime now);
+  // Rig `rig`'s cloud of `stamp`, first seen at `now`. When that completes its frame: the older
+  // frames still held, as they are (their missing rigs' clouds would come out of order), then
+  // this one, in stamp order, none held any longer; else nothing. A second cloud of one rig and
+  // stamp replaces the first.
+  std::vector<Frame> Add(size_t rig, const ros::Time& stamp, Cloud cloud, ros::WallTime now);
   // The frames whose first cloud came more than `wait` [s] before `now`, oldest stamp first (no
   // longer held).
   std::vector<Frame> Expire(ros::WallTime now, double wait);
