@@ -1,10 +1,10 @@
 #include "aar_registration/ros/registration_node.h"
 
 #include <chrono>
-
-#include <boost/bind/bind.hpp>
 #include <set>
 #include <sstream>
+
+#include <boost/bind/bind.hpp>
 
 #include <aar_geometry/mesh_io.h>
 #include <aar_geometry/pose.h>
@@ -251,7 +251,8 @@ void RegistrationNode::Process(const Input& input) {
       for (const RigGather::Cloud& cloud : input.clouds)
         if (cloud.reference) rigs.push_back(ToReferencePoints(*cloud.reference));
       // One rig: its reference as it came; more: the union (each rig's own view of the mesh).
-      ReferencePoints ref = rigs.size() == 1 ? std::move(rigs.front()) : MergeReferences(rigs);
+      ReferencePoints ref =
+          rigs.size() == 1 ? std::move(rigs.front()) : MergeReferences(std::move(rigs));
       registrar_.SetReference(std::move(ref.points), std::move(ref.normals));
     } catch (const std::exception& e) {  // no stale target: this frame gets no estimate
       ReportError(std::string("reference cloud rejected: ") + e.what());
