@@ -44,6 +44,15 @@ std::string Replay(const std::string& bag, const std::string& out, double rate =
          " --out " + out;
 }
 
+// scripts/replay's comparison with the live run, every frame alike in having an estimate: `m`
+// gets the frames compared, of how many, and the largest difference [m], [deg].
+bool ComparedAlike(const std::string& output, std::smatch& m) {
+  return std::regex_search(output, m,
+                           std::regex("(\\d+) of (\\d+) frames compared, 0 differ in having an "
+                                      "estimate; largest difference ([0-9.e+-]+) m, "
+                                      "([0-9.e+-]+) deg"));
+}
+
 TEST(Replay, SampleBagReproducesTheLiveRun) {
   const std::string out = ::testing::TempDir() + "/replay_sample";
   std::filesystem::remove_all(out);
@@ -52,11 +61,7 @@ TEST(Replay, SampleBagReproducesTheLiveRun) {
   std::printf("%s", r.output.c_str());
   ASSERT_EQ(r.status, 0);
   std::smatch m;
-  ASSERT_TRUE(
-      std::regex_search(r.output, m,
-                        std::regex("(\\d+) of (\\d+) frames compared, 0 differ in having an "
-                                   "estimate; largest difference ([0-9.e+-]+) m, "
-                                   "([0-9.e+-]+) deg")));
+  ASSERT_TRUE(ComparedAlike(r.output, m));
   EXPECT_EQ(m[1], m[2]);
   EXPECT_EQ(m[1], "30");
   EXPECT_LE(std::stod(m[3]), 1e-6);  // lockstep recording, deterministic graph: the same poses
@@ -87,11 +92,7 @@ TEST(Replay, TwoRigBagReproducesTheLiveRun) {
   std::printf("%s", r.output.c_str());
   EXPECT_EQ(r.status, 0);
   std::smatch m;
-  ASSERT_TRUE(
-      std::regex_search(r.output, m,
-                        std::regex("(\\d+) of (\\d+) frames compared, 0 differ in having an "
-                                   "estimate; largest difference ([0-9.e+-]+) m, "
-                                   "([0-9.e+-]+) deg")));
+  ASSERT_TRUE(ComparedAlike(r.output, m));
   EXPECT_EQ(m[1], "15");
   EXPECT_EQ(m[2], "15");
   // 0 m and 0 deg measured: a lockstep recording through a deterministic graph, both rigs.
