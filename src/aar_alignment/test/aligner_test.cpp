@@ -4,12 +4,12 @@
 #include <gtest/gtest.h>
 
 #include <functional>
-#include <random>
 #include <stdexcept>
 
 #include <aar_alignment/acquire.h>
 #include <aar_alignment/aligner.h>
 #include <aar_alignment/search.h>
+#include <aar_alignment/test_images.h>
 #include <aar_geometry/primitives.h>
 
 namespace aar_alignment {
@@ -28,49 +28,15 @@ aar_geometry::TriangleMesh Aircraft() {
   return mesh;
 }
 
-// The default rig's left and right cameras: 20 m aft of the tanker origin, looking aft, 25 deg
-// down (optical z along the view).
-PinholeCamera Camera(double x_offset) {
-  PinholeCamera c;
-  c.width = 1280, c.height = 960, c.fx = c.fy = 1108.5, c.cx = 639.5, c.cy = 479.5;
-  const Eigen::Matrix3d R_tanker_view =
-      (Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitZ()) *
-       Eigen::AngleAxisd(25.0 * M_PI / 180.0, Eigen::Vector3d::UnitY()))
-          .toRotationMatrix();
-  Eigen::Matrix3d R_view_optical;  // optical z forward, x right, y down
-  R_view_optical << 0, 0, 1, -1, 0, 0, 0, -1, 0;
-  c.T_tanker_optical.linear() = R_tanker_view * R_view_optical;
-  c.T_tanker_optical.translation() = Eigen::Vector3d(-20.0, 1.0, -3.0) +
-                                     c.T_tanker_optical.linear() * Eigen::Vector3d(x_offset, 0, 0);
-  return c;
-}
+// The default rig's left (0) and right (0.5) cameras.
+PinholeCamera Camera(double x_offset) { return test_images::RigCamera(x_offset); }
 
-// The aircraft at `truth` drawn into `camera`'s image: grey 90 on sky 180 by each pixel's
-// coverage (4 x 4 samples of a 4x silhouette), Gaussian noise.
-cv::Mat Draw(const OutlineModel& model, const PinholeCamera& camera, const Eigen::Isometry3d& truth,
-             double noise, unsigned seed) {
-  const SilhouetteMask mask = model.Silhouette(camera, truth, 16000, 4.0);
-  cv::Mat image(camera.height, camera.width, CV_8U);
-  std::mt19937 rng(seed);
-  std::normal_distribution<double> gauss(0.0, noise);
-  for (int y = 0; y < image.rows; ++y) {
-    for (int x = 0; x < image.cols; ++x) {
-      int covered = 0;
-      for (int k = 0; k < 16; ++k)
-        covered += mask.At(Eigen::Vector2d(x - 0.375 + 0.25 * (k % 4), y - 0.375 + 0.25 * (k / 4)));
-      image.at<uint8_t>(y, x) =
-          cv::saturate_cast<uint8_t>(180.0 - 90.0 * covered / 16.0 + gauss(rng));
-    }
-  }
-  return image;
-}
+using test_images::Draw;
 
 // A second rig (issue 44) like the first, 5 m forward, 2 m to its right and 1 m down
 // (config/mounts/share_mirror.yaml's place).
 PinholeCamera SecondRigCamera(double x_offset) {
-  PinholeCamera c = Camera(x_offset);
-  c.T_tanker_optical.translation() += Eigen::Vector3d(5.0, -2.0, -1.0);
-  return c;
+  return test_images::RigCamera(x_offset, {5.0, -2.0, -1.0});
 }
 
 // A box, `half` [m] each way, 4 m from the first rig (between its cameras) on the way to

@@ -7,6 +7,7 @@
 #include <functional>
 #include <random>
 
+#include <aar_alignment/test_images.h>
 #include <aar_geometry/mesh_io.h>
 #include <aar_geometry/pose.h>
 #include <ros/package.h>
@@ -409,42 +410,8 @@ TEST(Registrar, RefusesOptionsThatCannotWork) {
   }
 }
 
-// A rig's camera as aar_alignment's tests place the default rig (20 m aft of the tanker origin,
-// looking aft 25 deg down), moved by `offset` [m] in the tanker frame.
-aar_alignment::PinholeCamera RigCamera(const Eigen::Vector3d& offset, double x_offset) {
-  aar_alignment::PinholeCamera c;
-  c.width = 1280, c.height = 960, c.fx = c.fy = 1108.5, c.cx = 639.5, c.cy = 479.5;
-  const Eigen::Matrix3d R_tanker_view =
-      (Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitZ()) *
-       Eigen::AngleAxisd(25.0 * M_PI / 180.0, Eigen::Vector3d::UnitY()))
-          .toRotationMatrix();
-  Eigen::Matrix3d R_view_optical;  // optical z forward, x right, y down
-  R_view_optical << 0, 0, 1, -1, 0, 0, 0, -1, 0;
-  c.T_tanker_optical.linear() = R_tanker_view * R_view_optical;
-  c.T_tanker_optical.translation() = Eigen::Vector3d(-20.0, 1.0, -3.0) + offset +
-                                     c.T_tanker_optical.linear() * Eigen::Vector3d(x_offset, 0, 0);
-  return c;
-}
-
-// The receiver at `truth` drawn into `camera`'s image: grey 90 on sky 180 by each pixel's
-// coverage (4 x 4 samples of its silhouette), Gaussian noise of 3 grey levels.
-cv::Mat Draw(const aar_alignment::OutlineModel& model, const aar_alignment::PinholeCamera& camera,
-             const Eigen::Isometry3d& truth, unsigned seed) {
-  const aar_alignment::SilhouetteMask mask = model.Silhouette(camera, truth, 16000, 4.0);
-  cv::Mat image(camera.height, camera.width, CV_8U);
-  std::mt19937 rng(seed);
-  std::normal_distribution<double> gauss(0.0, 3.0);
-  for (int y = 0; y < image.rows; ++y) {
-    for (int x = 0; x < image.cols; ++x) {
-      int covered = 0;
-      for (int k = 0; k < 16; ++k)
-        covered += mask.At(Eigen::Vector2d(x - 0.375 + 0.25 * (k % 4), y - 0.375 + 0.25 * (k / 4)));
-      image.at<uint8_t>(y, x) =
-          cv::saturate_cast<uint8_t>(180.0 - 90.0 * covered / 16.0 + gauss(rng));
-    }
-  }
-  return image;
-}
+using aar_alignment::test_images::Draw;
+using aar_alignment::test_images::RigCamera;
 
 // Issue 44: far out, the boom 4 m from the first rig hides the receiver from both its cameras,
 // and stereo (the first rig's) has no points: only a start from the images can begin a track. The
@@ -457,10 +424,10 @@ TEST(Registrar, AnImageStartThroughASecondRigWhereTheBoomHidesTheFirst) {
   truth.translation() = Eigen::Vector3d(-120.0, 3.0, -38.0);
   const aar_alignment::OutlineModel model(Receiver());
   OutlineFrame frame;
-  frame.left_camera = RigCamera(Eigen::Vector3d::Zero(), 0.0);
-  frame.right_camera = RigCamera(Eigen::Vector3d::Zero(), 0.5);
-  frame.left = Draw(model, frame.left_camera, truth, 1);
-  frame.right = Draw(model, frame.right_camera, truth, 2);
+  frame.left_camera = RigCamera(0.0);
+  frame.right_camera = RigCamera(0.5);
+  frame.left = Draw(model, frame.left_camera, truth, 3.0, 1);
+  frame.right = Draw(model, frame.right_camera, truth, 3.0, 2);
   const Eigen::Vector3d eye = 0.5 * (frame.left_camera.T_tanker_optical.translation() +
                                      frame.right_camera.T_tanker_optical.translation());
   const Eigen::Vector3d near = eye + 4.0 * (truth.translation() - eye).normalized();
@@ -469,10 +436,10 @@ TEST(Registrar, AnImageStartThroughASecondRigWhereTheBoomHidesTheFirst) {
     boom.push_back(near + 0.75 * Eigen::Vector3d(k & 1 ? 1 : -1, k & 2 ? 1 : -1, k & 4 ? 1 : -1));
   frame.boom_parts_in_tanker = {boom};
   RigImages second;
-  second.left_camera = RigCamera({5.0, -2.0, -1.0}, 0.0);
-  second.right_camera = RigCamera({5.0, -2.0, -1.0}, 0.5);
-  second.left = Draw(model, second.left_camera, truth, 3);
-  second.right = Draw(model, second.right_camera, truth, 4);
+  second.left_camera = RigCamera(0.0, {5.0, -2.0, -1.0});
+  second.right_camera = RigCamera(0.5, {5.0, -2.0, -1.0});
+  second.left = Draw(model, second.left_camera, truth, 3.0, 3);
+  second.right = Draw(model, second.right_camera, truth, 3.0, 4);
   for (const bool two_rigs : {false, true}) {
     RegistrarOptions options = TrackingOptions();
     options.reference = ReferenceKind::kDense;
