@@ -311,7 +311,7 @@ class OutlineAligner::Run {
       out.view_outline_lines.push_back(static_cast<int>(contour.size()));
     out.outline_lines =
         std::accumulate(out.view_outline_lines.begin(), out.view_outline_lines.end(), 0);
-    out.information = last.H / o_.covariance_scale;
+    out.information = last.H / (o_.covariance_scale * SharedRigs(last));
     out.covariance = (out.information + prior_).inverse();
     out.covariance = 0.5 * (out.covariance + out.covariance.transpose()).eval();
     out.T_tanker_receiver = Pose();
@@ -320,6 +320,16 @@ class OutlineAligner::Run {
   }
 
  private:
+  // The information's divisor for rigs that share their errors (rigs_share_errors): the number
+  // of rigs (a left and a right view each, in order) with usable lines; 1 otherwise.
+  double SharedRigs(const Pass& pass) const {
+    if (!o_.rigs_share_errors) return 1.0;
+    int rigs = 0;
+    for (size_t v = 0; v + 1 < pass.view_usable.size(); v += 2)
+      rigs += pass.view_usable[v] + pass.view_usable[v + 1] > 0 ? 1 : 0;
+    return std::max(1, rigs);
+  }
+
   // One view as the stages see it: its boom mask and the camera's inverse pose.
   void AddView(const cv::Mat& image, const PinholeCamera& camera) {
     line_model::View v;

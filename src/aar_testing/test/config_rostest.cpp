@@ -309,6 +309,7 @@ TEST(Config, RegistrationYamlHoldsTheStructsDefaults) {
   EXPECT_EQ(yo.alignment.line_model, bo.alignment.line_model);
   EXPECT_EQ(yo.alignment.search_radius_px, bo.alignment.search_radius_px);
   EXPECT_EQ(yo.alignment.covariance_scale, bo.alignment.covariance_scale);
+  EXPECT_EQ(yo.alignment.rigs_share_errors, bo.alignment.rigs_share_errors);
   EXPECT_EQ(y.persistent_error.pixel_sigma, b.persistent_error.pixel_sigma);
   EXPECT_EQ(y.fault_start_offset_m, b.fault_start_offset_m);
   const auto &yi = y.integrity, &bi = b.integrity;

@@ -48,7 +48,8 @@ TEST(MultiRig, FramesSeenOnlyByTheSecondRig) {
       "rig, at least %.3f in the better rig of two\n",
       one.estimated, kFrames, two.estimated, two.mean_position_m, worst, two.mean_rotation_deg,
       seen_one, seen_two);
-  // Measured: one rig 0 of 20; two rigs 20 of 20, mean 0.349 m, worst 0.952 m, 0.319 deg.
+  // Measured: one rig 0 of 20; two rigs 20 of 20, mean 0.258 m, worst 0.959 m, 0.397 deg
+  // (0.349 m, 0.319 deg with every view's errors independent: outline_rigs_share_errors false).
   // Registration told only the first rig (its stages running for both): 0 of 20.
   // Physics, not ours: one rig's weaker camera sees 0.127 of the receiver at most, the better
   // rig of two 1.000 at least (eval's visibility of both rigs).
@@ -58,7 +59,7 @@ TEST(MultiRig, FramesSeenOnlyByTheSecondRig) {
   EXPECT_EQ(two.estimated, kFrames);
   EXPECT_LT(two.mean_position_m, 0.4);
   EXPECT_LT(worst, 1.1);
-  EXPECT_LT(two.mean_rotation_deg, 0.4);
+  EXPECT_LT(two.mean_rotation_deg, 0.45);
 }
 
 }  // namespace

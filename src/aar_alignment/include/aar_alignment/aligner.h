@@ -59,6 +59,11 @@ struct AlignmentOptions {
   // Lines of neighbouring outline points are not independent: the Gauss-Newton information is
   // divided by this (covariance = scale x inverse information).
   double covariance_scale = 4.0;
+  // With views of more than one rig (AlignmentInput::extra_views): true takes their errors as
+  // shared (the model's and the images' errors, seen from every camera alike), so the information
+  // is divided by the number of rigs whose views had usable lines as well: further rigs sharpen
+  // the pose, but its covariance claims no more than one rig's. false: every view independent.
+  bool rigs_share_errors = false;
   // The prediction's uncertainty when the input gives none (standard deviations, each axis): the
   // alignment is a MAP estimate, so directions the outline hardly sees (range and out-of-plane
   // rotations far out) stay near the prediction instead of wandering.

@@ -137,6 +137,7 @@ OutlineOptions LoadOutlineOptions(aar_ros_common::ParamReader& params, OutlineOp
                                                   {"region", aar_alignment::LineModel::kRegion}});
   a.search_radius_px = params.Get("outline_search_radius", a.search_radius_px);
   a.covariance_scale = params.Get("outline_covariance_scale", a.covariance_scale);
+  a.rigs_share_errors = params.Get("outline_rigs_share_errors", a.rigs_share_errors);
   params.Check(outline.min_quality >= 0.0 && outline.min_quality <= 1.0, "outline_min_quality",
                "must lie in [0, 1]");
   params.Check(outline.maneuver_quality >= 0.0 && outline.maneuver_quality <= 1.0,
