@@ -14,6 +14,7 @@ the file and the namespace, and exits 1; so it does an include that is missing o
 With --rigs (the launch's rigs:=, comma-separated; issue 44) it refuses a list that is not the
 experiment's sim rigs (`sim: rigs:`, default the one rig `stereo`) or whose first is not `stereo`,
 and writes the settings a further rig's stages take (aar_stereo and occlusion) to --rig-part's OUT.
+A sim rig's `mount: NAME` stands for config/mounts/NAME.yaml's keys (the rig's own keys win).
 On success it writes the resolved settings to OUT (one YAML, what the launch loads) and prints
 the namespaces (launch files use it as a command parameter, which makes roslaunch stop before
 any node starts when the check fails); the campaign driver runs it on every experiment of a
@@ -103,7 +104,25 @@ def resolve(path, sources, chain=()):
     if found:
         raise Refused("\n".join(f"{path}: {p}" for p in found))
     merge(merged, tree, sources, path)
+    expand_mounts(merged, path)
     return merged
+
+
+MOUNTS = os.path.join(ROOT, "config/mounts")
+
+
+def expand_mounts(tree, path):
+    """A sim rig's `mount: NAME` becomes config/mounts/NAME.yaml's keys (the rig's own win)."""
+    for rig in tree.get("sim", {}).get("rigs", []):
+        if not isinstance(rig, dict) or "mount" not in rig:
+            continue
+        name = rig.pop("mount")
+        if not isinstance(name, str) or not name or "/" in name:
+            raise Refused(f"{path}: sim rig {rig.get('name')}: mount takes a mount's name (a "
+                          f"file of {MOUNTS}), not {name!r}")
+        mount = read(os.path.join(MOUNTS, name + ".yaml"))
+        for key, value in mount.items():
+            rig.setdefault(key, value)
 
 
 # The stages' defaults under the experiment, as the launch files load them.

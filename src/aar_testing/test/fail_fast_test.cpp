@@ -138,6 +138,23 @@ TEST(FailFast, AnExperimentIncludesItsBasesAndAMissingOneIsNamed) {
   r = aar_testing::RunCommand(check + Write(dir + "/b.yaml", "include: a\n"));
   EXPECT_EQ(r.status, 1) << r.output;
   EXPECT_NE(r.output.find("b.yaml: includes itself (through "), std::string::npos) << r.output;
+  // A sim rig's `mount: NAME` stands for config/mounts/NAME.yaml's keys, the rig's own winning;
+  // a mount that is not there is named.
+  const std::string rigs = Write(dir + "/rigs.yaml",
+                                 "include: flight\nsim:\n  rigs:\n  - name: stereo\n"
+                                 "  - {name: two, mount: share_mirror, camera_z: -5.0}\n");
+  r = aar_testing::RunCommand(check + rigs + " --resolved " + dir + "/rigs_resolved.yaml");
+  ASSERT_EQ(r.status, 0) << r.output;
+  const std::string rig = Read(dir + "/rigs_resolved.yaml");
+  for (const char* line : {"    camera_x: -15.0\n", "    camera_y: -1.0\n", "    camera_z: -5.0\n"})
+    EXPECT_NE(rig.find(line), std::string::npos) << line << " not in\n" << rig;
+  EXPECT_EQ(rig.find("mount"), std::string::npos) << rig;
+  r = aar_testing::RunCommand(check + Write(dir + "/no_mount.yaml",
+                                            "sim:\n  rigs:\n  - name: stereo\n"
+                                            "  - {name: two, mount: nowhere}\n"));
+  EXPECT_EQ(r.status, 1) << r.output;
+  EXPECT_NE(r.output.find("config/mounts/nowhere.yaml: not readable"), std::string::npos)
+      << r.output;
   r = Fly(dir + "/lost.yaml", dir + "/run");
   EXPECT_EQ(r.status, 1) << r.output;
   EXPECT_NE(r.output.find("includes 'fligth'"), std::string::npos) << r.output;
