@@ -30,9 +30,10 @@ constexpr double kStart = 47.0;  // [s] path time
 using FrameError = aar_testing::PipelineFrame;
 using PipelineRun = aar_testing::PipelineRun;
 
-PipelineRun RunPipeline(const std::string& tag, const std::string& args) {
+PipelineRun RunPipeline(const std::string& tag, const std::string& args,
+                        const std::string& experiment = "dynamic") {
   PipelineRun run = aar_testing::RunPipeline(
-      "rawcam_" + tag, "experiment:=dynamic frames:=" + std::to_string(kFrames) +
+      "rawcam_" + tag, "experiment:=" + experiment + " frames:=" + std::to_string(kFrames) +
                            " start_time:=" + std::to_string(kStart) + " " + args);
   EXPECT_TRUE(run.error.empty()) << run.error;
   EXPECT_EQ(run.status, 0) << "(log: " << run.output_dir << ".log)";
@@ -74,6 +75,33 @@ TEST(RawCameras, RectifiedRawCamerasMatchPinholeNearContact) {
   EXPECT_EQ(rectified.log.find(kWarning), std::string::npos) << "warned behind image_proc";
   EXPECT_NE(rectified.log.find("stereo/left/rectify"), std::string::npos);
   EXPECT_EQ(rectified.log.find("Failed to load nodelet"), std::string::npos);
+}
+
+// A further rig's raw cameras are rectified as the first's (launch/include/rig.launch rectify):
+// flight_two_rigs on raw images matches its pinhole run frame by frame, and the second rig's
+// rectify nodelets ran. Without them its stereo gets no images (measured: MEASURED).
+TEST(RawCameras, AFurtherRigsRawCamerasAreRectifiedToo) {
+  const std::string rigs = "rigs:=stereo,share_mirror";
+  const PipelineRun pinhole = RunPipeline("two_rigs_pinhole", rigs, "flight_two_rigs");
+  const PipelineRun rectified =
+      RunPipeline("two_rigs_rectified", rigs + " rectify:=true", "flight_two_rigs");
+  ASSERT_EQ(pinhole.frames.size(), size_t(kFrames));
+  ASSERT_EQ(rectified.frames.size(), size_t(kFrames));
+  EXPECT_EQ(pinhole.estimated, kFrames);
+  EXPECT_EQ(rectified.estimated, kFrames);
+  double worst_position = 0.0, worst_rotation = 0.0;
+  for (int i = 0; i < kFrames; ++i) {
+    const FrameError &a = pinhole.frames[size_t(i)], &b = rectified.frames[size_t(i)];
+    worst_position = std::max(worst_position, (b.position_m - a.position_m).norm());
+    worst_rotation = std::max(worst_rotation, (b.rpy_deg - a.rpy_deg).norm());
+  }
+  std::printf("[ rawcam ] two rigs per frame, rectified - pinhole: at most %.4f m, %.3f deg\n",
+              worst_position, worst_rotation);
+  EXPECT_LT(worst_position, 0.045);  // [m] measured WP
+  EXPECT_LT(worst_rotation, 0.4);    // [deg] measured WR
+  EXPECT_EQ(rectified.log.find(kWarning), std::string::npos) << "warned behind image_proc";
+  EXPECT_NE(rectified.log.find("share_mirror/left/rectify"), std::string::npos);
+  EXPECT_NE(rectified.log.find("share_mirror/right/rectify"), std::string::npos);
 }
 
 // The raw images fed as image_rect, nothing rectifying them (a rig's image_raw remapped): the
