@@ -238,8 +238,9 @@ TEST(OutlineAligner, RigsThatShareErrorsClaimNoMoreThanOneRig) {
   const AlignmentResult independent = OutlineAligner(scene.model.mesh()).Align(two);
   const AlignmentResult r = OutlineAligner(scene.model.mesh(), shared).Align(two);
   ASSERT_TRUE(one.valid && independent.valid && r.valid);
-  EXPECT_LT((r.T_tanker_receiver.translation() - independent.T_tanker_receiver.translation()).norm(),
-            1e-9);
+  EXPECT_LT(
+      (r.T_tanker_receiver.translation() - independent.T_tanker_receiver.translation()).norm(),
+      1e-9);
   EXPECT_LT((2.0 * r.information - independent.information).norm(),
             1e-9 * independent.information.norm());
   const double ratio = r.information.trace() / one.information.trace();

@@ -146,7 +146,7 @@ TEST(FailFast, AnExperimentIncludesItsBasesAndAMissingOneIsNamed) {
   r = aar_testing::RunCommand(check + rigs + " --resolved " + dir + "/rigs_resolved.yaml");
   ASSERT_EQ(r.status, 0) << r.output;
   const std::string rig = Read(dir + "/rigs_resolved.yaml");
-  for (const char* line : {"    camera_x: -15.0\n", "    camera_y: -1.0\n", "    camera_z: -5.0\n"})
+  for (const char* line : {"camera_x: -15.0\n", "camera_y: -1.0\n", "camera_z: -5.0\n"})
     EXPECT_NE(rig.find(line), std::string::npos) << line << " not in\n" << rig;
   EXPECT_EQ(rig.find("mount"), std::string::npos) << rig;
   r = aar_testing::RunCommand(check + Write(dir + "/no_mount.yaml",
