@@ -366,6 +366,7 @@ TEST(TwoRigs, CloudsGatheredByStampAndALateRigWaitedForOnlySoLong) {
   ros::Publisher second_references =
       nh.advertise<sensor_msgs::PointCloud2>("/second/aar/reference_cloud", 5);
   aar_testing::StampedCollector<aar_msgs::PoseEstimate> estimates(nh, "/aar/pose_estimate");
+  aar_testing::LoggedErrors warnings(nh, "/registration", 4);  // 4: WARN
   tf2_ros::StaticTransformBroadcaster static_tf;
   static_tf.sendTransform(SensorMount());
   aar_testing::WaitFor(
@@ -408,6 +409,8 @@ TEST(TwoRigs, CloudsGatheredByStampAndALateRigWaitedForOnlySoLong) {
   EXPECT_EQ(late->sensed_points, shape.size());
   EXPECT_GT(waited, 0.45);  // rig_wait 0.5 s (the expiry timer ticks every 0.1 s)
   EXPECT_LT(waited, 2.0);
+  const std::string named = warnings.WaitMessage("registered without the clouds of second", 5.0);
+  EXPECT_NE(named.find("second (1 frames so far)"), std::string::npos) << "not named: " << named;
 }
 
 // Tracking in the node: the receiver (every 8th dense sample) flies past "sensor" at 0.5 m/s, 10

@@ -258,12 +258,26 @@ void RegistrationNode::Process(const Input& input) {
       ReportError(std::string("reference cloud rejected: ") + e.what());
     }
   }
-  if (gather_) {
-    std::lock_guard<std::mutex> report(report_mutex_);
-    for (size_t i = 0; i < input.clouds.size(); ++i)
-      if (!input.clouds[i].points) ++rig_missing_[i];
-  }
+  if (gather_) CountMissingRigs(input);
   Register(input);
+}
+
+void RegistrationNode::CountMissingRigs(const Input& input) {
+  std::ostringstream missing;
+  {
+    std::lock_guard<std::mutex> report(report_mutex_);
+    for (size_t i = 0; i < input.clouds.size(); ++i) {
+      if (input.clouds[i].points) continue;
+      missing << (missing.tellp() > 0 ? ", " : "") << options_.rigs[i] << " (" << ++rig_missing_[i]
+              << " frames so far)";
+    }
+  }
+  if (missing.tellp() == 0) return;
+  ROS_WARN_STREAM_THROTTLE(5.0, "registration: frame "
+                                    << input.stamp << " registered without the clouds of "
+                                    << missing.str() << ", not come within " << options_.rig_wait
+                                    << " s (rig_wait): is each rig's "
+                                       "stereo and occlusion running?");
 }
 
 void RegistrationNode::ReportError(const std::string& what) {

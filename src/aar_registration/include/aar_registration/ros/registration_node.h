@@ -109,6 +109,9 @@ class RegistrationNode {
   bool TryBuildStaticReference(double tf_wait);
   // The reason a cloud's stamp is refused (empty if it is not).
   std::string StampProblem(const ros::Time& stamp) const;
+  // A frame gathered without some rigs' clouds (they did not come within rig_wait): counted per
+  // rig (/diagnostics) and named in a warning.
+  void CountMissingRigs(const Input& input);
   void ReportError(const std::string& what);
   void Diagnose(diagnostic_updater::DiagnosticStatusWrapper& status);
 
