@@ -7,8 +7,8 @@ make targets, each writing its XML into build/<package>/test_results/) in lanes 
 Most of these tests wait (bags replayed at a fraction of their speed, Slurm's queue, timeouts),
 so two run at once on two cores. Some may not:
 - EXCLUSIVE ones bound a rate or load the machine: they run alone, after the others;
-- tests that hold one RESOURCE of the machine (network namespaces, nftables, Slurm's daemons)
-  never run at the same time as another holding it.
+- tests that hold a RESOURCE of the machine (network namespaces, nftables, Slurm's daemons; or
+  both cores) never run at the same time as another holding it.
 The longest start first (seconds measured in a serial run, EXPECTED), so the lanes end together.
 Each target's wall and CPU time (user + sys of it and its children, from wait4) is printed.
 The test binaries must be built (make tests); the workspace's devel space sourced.
@@ -30,10 +30,14 @@ EXCLUSIVE = {
     # loaded machine (roi_area 0.90, not < 0.35), passed alone.
     "test_stereo_roi.test": "an estimate's timing against the next frames",
 }
-# Target name -> the machine-wide resource it holds.
+# Target name -> what it holds that another test must not share at the same time: the machine's
+# network namespaces, nftables and Slurm daemons (netns); or both cores (cpu): campaign_test's
+# lockstep suites are CPU-bound, and replay_test's slow replays drop frames beside them (its
+# TfOutage test once counted an extra occlusion drop on a loaded machine).
 RESOURCE = {
-    "aar_testing_campaign_test": "netns",  # Slurm's daemons, nodes in network namespaces
-    "aar_testing_two_hosts_test": "netns",  # network namespaces, a veth, nftables
+    "aar_testing_campaign_test": {"netns", "cpu"},  # Slurm's daemons, nodes in namespaces
+    "aar_testing_two_hosts_test": {"netns"},  # network namespaces, a veth, nftables
+    "aar_testing_replay_test": {"cpu"},
 }
 # Target name -> seconds in a serial run (scripts/test, 2 cores); the rest count 10 s.
 EXPECTED = {
@@ -56,7 +60,7 @@ class Job:
         self.package, self.target = package, target
         self.name = re.sub(rf"^run_tests_{package}_(gtest|rostest)_", "", target)
         self.exclusive = self.name in EXCLUSIVE
-        self.resource = RESOURCE.get(self.name)
+        self.resources = RESOURCE.get(self.name, set())
         self.expected = EXPECTED.get(self.name, 10)
 
 
@@ -77,8 +81,7 @@ def jobs_of(build_space):
 def can_start(job, running):
     if job.exclusive:
         return not running
-    return all(not r.exclusive and (job.resource is None or r.resource != job.resource)
-               for r in running)
+    return all(not r.exclusive and not job.resources & r.resources for r in running)
 
 
 def start(job, build_space):
