@@ -269,13 +269,14 @@ void RegistrationNode::CountMissingRigs(const Input& input) {
     for (size_t i = 0; i < input.clouds.size(); ++i) {
       if (input.clouds[i].points) continue;
       missing << (missing.tellp() > 0 ? ", " : "") << options_.rigs[i] << " (" << ++rig_missing_[i]
-              << " frames so far)";
+              << " such frames so far)";
     }
   }
   if (missing.tellp() == 0) return;
   ROS_WARN_STREAM_THROTTLE(5.0, "registration: frame "
                                     << input.stamp << " registered without the clouds of "
-                                    << missing.str() << ", not come within " << options_.rig_wait
+                                    << missing.str() << ", which did not come within "
+                                    << options_.rig_wait
                                     << " s (rig_wait): is each rig's "
                                        "stereo and occlusion running?");
 }
