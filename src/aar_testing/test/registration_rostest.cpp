@@ -410,7 +410,8 @@ TEST(TwoRigs, CloudsGatheredByStampAndALateRigWaitedForOnlySoLong) {
   EXPECT_GT(waited, 0.45);  // rig_wait 0.5 s (the expiry timer ticks every 0.1 s)
   EXPECT_LT(waited, 2.0);
   const std::string named = warnings.WaitMessage("registered without the clouds of second", 5.0);
-  EXPECT_NE(named.find("second (1 such frames so far)"), std::string::npos) << "not named: " << named;
+  EXPECT_NE(named.find("second (1 such frames so far)"), std::string::npos)
+      << "not named: " << named;
 }
 
 // Tracking in the node: the receiver (every 8th dense sample) flies past "sensor" at 0.5 m/s, 10
