@@ -71,6 +71,12 @@ bool Evaluator::AddOutcome(int64_t stamp_ns, const StageOutcome& outcome) {
 
 bool Evaluator::Resolved(int64_t stamp_ns) const {
   if (estimates_.count(stamp_ns)) return true;
+  // Estimates come on one connection in stamp order: once an announced later frame has its
+  // estimate, this frame's will not come (lost, e.g. before eval's subscription was linked).
+  // Without this, one lost estimate held every later frame for settle_after.
+  const auto later = estimates_.upper_bound(stamp_ns);
+  if (later != estimates_.end() && !frames_.empty() && later->first <= frames_.back().stamp_ns)
+    return true;
   const auto it = outcomes_.find(stamp_ns);
   if (it == outcomes_.end()) return false;
   for (const StageOutcome& o : it->second)

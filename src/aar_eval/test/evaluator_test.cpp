@@ -108,6 +108,23 @@ TEST(Evaluator, LateEstimatesCountUntilTheFrameIsDue) {
   EXPECT_TRUE(settled[1].record.estimated);
 }
 
+// A lost estimate (the first frame's, sent before eval's subscription was linked: seen under
+// load, when no /aar/pose_error came for 10 s) does not hold the later frames: once a later
+// announced frame's estimate came, the earlier frame settles as a miss. An estimate for a frame
+// not yet announced (or never: a stray stamp) settles nothing before it.
+TEST(Evaluator, ALaterEstimateSettlesAFrameWhoseEstimateWasLost) {
+  Evaluator eval(1.0, 0, 10.0);
+  for (int k = 2; k <= 4; ++k) eval.AddFrame(k * kSecond, 0.1 * k);
+  EXPECT_TRUE(eval.AddEstimate(99 * kSecond, At(-34.4)));  // never announced
+  EXPECT_TRUE(eval.SettleReady(1.0, Always, Truth).empty());
+  EXPECT_TRUE(eval.AddEstimate(3 * kSecond, At(-34.4)));
+  const auto settled = eval.SettleReady(1.0, Always, Truth);
+  ASSERT_EQ(settled.size(), 2u);  // 2 (lost) and 3; 4 waits for its own
+  EXPECT_FALSE(settled[0].record.estimated);
+  EXPECT_EQ(settled[0].ledger.outcome, "dropped");
+  EXPECT_TRUE(settled[1].record.estimated);
+}
+
 // A frame settles on its estimate only once its truth is there; until it is due.
 TEST(Evaluator, AFrameWaitsForItsTruth) {
   Evaluator eval(1.0, 0, 10.0);

@@ -63,8 +63,9 @@ using TruthLookup =
 using TruthReady = std::function<bool(int64_t stamp_ns)>;
 
 // Pairs each announced frame with its estimate and the truth, and decides when a frame is
-// settled: when its estimate came or a stage reported dropping it (and its truth is there), or,
-// failing both, `settle_after` seconds after it was announced: then it is a miss, and the stages'
+// settled: when its estimate came, a stage reported dropping it, or a later announced frame's
+// estimate came (estimates come in stamp order: this one's was lost), and its truth is there; or,
+// failing all, `settle_after` seconds after it was announced: then it is a miss, and the stages'
 // reports say where it was lost (the frame ledger). Frames settle in stamp order. Time, not a
 // count of later frames: a busy machine delays estimates without losing them. ROS-free; not
 // thread-safe.
@@ -110,7 +111,7 @@ class Evaluator {
     int64_t stamp_ns;
     double at_s;  // when it was announced
   };
-  bool Resolved(int64_t stamp_ns) const;  // its estimate or a stage's final drop came
+  bool Resolved(int64_t stamp_ns) const;  // its, a later frame's estimate or a final drop came
   SettledFrame SettleFront(const TruthLookup& truth);
   void Score(const Eigen::Isometry3d& T_truth, SettledFrame& s);
   std::string ProgressLine(const FrameRecord& frame) const;  // of the newest record
