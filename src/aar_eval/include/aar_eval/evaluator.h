@@ -111,7 +111,7 @@ class Evaluator {
     int64_t stamp_ns;
     double at_s;  // when it was announced
   };
-  bool Resolved(int64_t stamp_ns) const;  // its, a later frame's estimate or a final drop came
+  bool Resolved(int64_t stamp_ns) const;  // its estimate, a later one, or a final drop came
   SettledFrame SettleFront(const TruthLookup& truth);
   void Score(const Eigen::Isometry3d& T_truth, SettledFrame& s);
   std::string ProgressLine(const FrameRecord& frame) const;  // of the newest record
