@@ -1,6 +1,7 @@
 #include "aar_registration/range_check.h"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 #include <sstream>
 
@@ -67,8 +68,10 @@ RangeCheck CheckRange(const std::vector<Eigen::Vector3d>& sensed_in_tanker,
   std::nth_element(depths.begin(), middle, depths.end());
   check.median_depth = *middle;
   const double z = check.median_depth;
-  check.tolerance =
-      options.sigmas * StereoRangeSigma(z, options.disparity_sigma, left.fx, baseline_m);
+  const int independent = std::max(1, std::min(check.points, options.independent_points));
+  check.tolerance = options.sigmas *
+                    StereoRangeSigma(z, options.disparity_sigma, left.fx, baseline_m) /
+                    std::sqrt(static_cast<double>(independent));
   check.agrees = z >= check.near - check.tolerance && z <= check.far + check.tolerance;
   return check;
 }

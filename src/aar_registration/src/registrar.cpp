@@ -31,6 +31,10 @@ void OutlineOptions::Validate() const {
   if (partial_range_sigmas > 0.0 && !(disparity_sigma > 0.0))
     fail("partial_range_sigmas needs disparity_sigma (stereo's noise) > 0");
   if (partial_range_min_points < 1) fail("partial_range_min_points must be at least 1");
+  if (partial_range_independent_points < 1)
+    fail("partial_range_independent_points must be at least 1");
+  if (partial_range_required && !(partial_range_sigmas > 0.0))
+    fail("partial_range_required needs partial_range_sigmas > 0");
   if (range_all_starts && !(partial_range_sigmas > 0.0))
     fail("range_all_starts needs partial_range_sigmas > 0");
   if (!(information_floor_position > 0.0) || !(information_floor_rotation > 0.0))
@@ -415,7 +419,8 @@ bool Registrar::ImageStart(double stamp_s, const OutlineFrame& frame, RegistrarR
   out.outline_fused = true;
   out.error.clear();
   partial_share_ = aar_alignment::SeenShare(options_.outline.acquisition, a.alignment);
-  const bool partial = partial_share_ < options_.outline.partial_below;
+  const double below = options_.outline.partial_below;
+  const bool partial = partial_share_ < below || below >= 1.0;  // 1: every image start
   StartWatch(partial);
   std::ostringstream s;
   s << "started from the images alone (" << Quality(a.alignment) << ", searched from " << a.range_m

@@ -20,6 +20,7 @@ bool Registrar::ConfirmsNewTrack(const std::vector<Eigen::Vector3d>& sensed,
   options.sigmas = o.partial_range_sigmas;
   options.disparity_sigma = o.disparity_sigma;
   options.min_points = o.partial_range_min_points;
+  options.independent_points = o.partial_range_independent_points;
   // Stereo's points are the first rig's, so its cameras check them (OutlineFrame::more_rigs).
   const RangeCheck check =
       CheckRange(sensed, aligner_->model(), frame->left_camera, frame->baseline(),
@@ -32,6 +33,7 @@ bool Registrar::ConfirmsNewTrack(const std::vector<Eigen::Vector3d>& sensed,
     out.error = out.track.reason;
     return false;
   }
+  if (!check.enough && o.partial_range_required) return false;  // not confirmed, not dropped
   return accepted;  // in range, or stereo has too few points to say: the frames decide
 }
 

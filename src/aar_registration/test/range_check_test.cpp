@@ -97,6 +97,35 @@ TEST(RangeCheck, StereoAgreesWithTheRightRangeAndNotWithAWrongOne) {
   EXPECT_FALSE(near.agrees);
 }
 
+// Far out one point's tolerance passes a wrong start: at 170 m, 3 sigma_Z = 3 * 170^2 * 0.25 /
+// (1108.5 * 0.5) = 39 m, and the realistic world's two-rig start 32 m long (docs/AVAILABILITY.md)
+// agreed. The median of the receiver's points is surer: counting 10 of them as independent, the
+// tolerance is 39 / sqrt(10) = 12.3 m; the right range still agrees, the wrong one not.
+TEST(RangeCheck, IndependentPointsNarrowTheToleranceFarOut) {
+  const std::vector<Eigen::Vector3d> sensed = Stereo(ReceiverAt(170.0), 10, 4);
+  static const aar_alignment::OutlineModel model(Receiver());
+  RangeCheckOptions one = Options();
+  const RangeCheck wide =
+      CheckRange(sensed, model, LeftCamera(), kBaseline, {}, ReceiverAt(202.0), one);
+  std::printf("[ one point's ] %s\n", wide.ToString().c_str());
+  ASSERT_TRUE(wide.enough);
+  EXPECT_NEAR(wide.tolerance, 39.1, 0.5);
+  EXPECT_TRUE(wide.agrees);  // 32 m long passes
+
+  RangeCheckOptions ten = Options();
+  ten.independent_points = 10;
+  const RangeCheck right =
+      CheckRange(sensed, model, LeftCamera(), kBaseline, {}, ReceiverAt(170.0), ten);
+  std::printf("[ 10 independent, right ] %s\n", right.ToString().c_str());
+  ASSERT_GE(right.points, 10);
+  EXPECT_NEAR(right.tolerance, 39.1 / std::sqrt(10.0), 0.3);
+  EXPECT_TRUE(right.agrees);
+  const RangeCheck wrong =
+      CheckRange(sensed, model, LeftCamera(), kBaseline, {}, ReceiverAt(202.0), ten);
+  std::printf("[ 10 independent, 32 m long ] %s\n", wrong.ToString().c_str());
+  EXPECT_FALSE(wrong.agrees);
+}
+
 TEST(RangeCheck, TooFewPointsGiveNoVerdict) {
   const std::vector<Eigen::Vector3d> sensed = Stereo(ReceiverAt(100.0), 40, 2);
   const std::vector<Eigen::Vector3d> few(sensed.begin(), sensed.begin() + 5);

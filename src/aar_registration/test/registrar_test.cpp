@@ -400,7 +400,9 @@ TEST(Registrar, RefusesOptionsThatCannotWork) {
            [](OutlineOptions& o) { o.partial_range_sigmas = -1.0; },
            [](OutlineOptions& o) { o.partial_range_sigmas = 3.0; },  // disparity_sigma 0
            [](OutlineOptions& o) { o.partial_range_min_points = 0; },
-           [](OutlineOptions& o) { o.range_all_starts = true; },  // without the range check
+           [](OutlineOptions& o) { o.partial_range_independent_points = 0; },
+           [](OutlineOptions& o) { o.partial_range_required = true; },  // without the check
+           [](OutlineOptions& o) { o.range_all_starts = true; },        // without the range check
            [](OutlineOptions& o) { o.acquisition.min_visible = 1.5; },
            [](OutlineOptions& o) { o.acquisition.range_step = 0.9; }}) {
     options = {};
@@ -417,13 +419,26 @@ using aar_alignment::test_images::RigCamera;
 // and stereo (the first rig's) has no points: only a start from the images can begin a track. The
 // first rig's images alone refuse it; with a second rig in OutlineFrame::more_rigs (5 m forward,
 // 2 m right, 1 m down: config/mounts/share_mirror.yaml) its images start it.
-TEST(Registrar, AnImageStartThroughASecondRigWhereTheBoomHidesTheFirst) {
-  const Eigen::Isometry3d nominal =
-      aar_geometry::MakeTransform({-35.0, 0.0, -10.0}, {0.0, -0.035, 0.0});
-  Eigen::Isometry3d truth = nominal;
+struct FarView {
+  Eigen::Isometry3d nominal = aar_geometry::MakeTransform({-35.0, 0.0, -10.0}, {0.0, -0.035, 0.0});
+  Eigen::Isometry3d truth;
+  OutlineFrame frame;  // the first rig's, the boom hiding the receiver from it
+  RigImages second;    // config/mounts/share_mirror.yaml's
+  FarView();
+  // Tracking with the outline and starts from the images, as flight_two_rigs.
+  RegistrarOptions Options() const {
+    RegistrarOptions options = TrackingOptions();
+    options.reference = ReferenceKind::kDense;
+    options.T_tanker_receiver_nominal = nominal;
+    options.outline.enabled = true;
+    options.outline.image_start = true;
+    return options;
+  }
+};
+
+FarView::FarView() : truth(nominal) {
   truth.translation() = Eigen::Vector3d(-120.0, 3.0, -38.0);
   const aar_alignment::OutlineModel model(Receiver());
-  OutlineFrame frame;
   frame.left_camera = RigCamera(0.0);
   frame.right_camera = RigCamera(0.5);
   frame.left = Draw(model, frame.left_camera, truth, 3.0, 1);
@@ -435,24 +450,22 @@ TEST(Registrar, AnImageStartThroughASecondRigWhereTheBoomHidesTheFirst) {
   for (int k = 0; k < 8; ++k)
     boom.push_back(near + 0.75 * Eigen::Vector3d(k & 1 ? 1 : -1, k & 2 ? 1 : -1, k & 4 ? 1 : -1));
   frame.boom_parts_in_tanker = {boom};
-  RigImages second;
   second.left_camera = RigCamera(0.0, {5.0, -2.0, -1.0});
   second.right_camera = RigCamera(0.5, {5.0, -2.0, -1.0});
   second.left = Draw(model, second.left_camera, truth, 3.0, 3);
   second.right = Draw(model, second.right_camera, truth, 3.0, 4);
+}
+
+TEST(Registrar, AnImageStartThroughASecondRigWhereTheBoomHidesTheFirst) {
+  FarView view;
   for (const bool two_rigs : {false, true}) {
-    RegistrarOptions options = TrackingOptions();
-    options.reference = ReferenceKind::kDense;
-    options.T_tanker_receiver_nominal = nominal;
-    options.outline.enabled = true;
-    options.outline.image_start = true;
-    Registrar registrar(options);
+    Registrar registrar(view.Options());
     registrar.BuildStaticReference(Receiver(), {});
     registrar.SetOutlineModel(Receiver());
-    frame.more_rigs.clear();
-    if (two_rigs) frame.more_rigs.push_back(second);
+    OutlineFrame frame = view.frame;
+    if (two_rigs) frame.more_rigs.push_back(view.second);
     const RegistrarResult r = registrar.Register({}, 1.0, &frame);  // stereo: nothing
-    const double off = (r.T_tanker_receiver.translation() - truth.translation()).norm();
+    const double off = (r.T_tanker_receiver.translation() - view.truth.translation()).norm();
     std::printf("[ %s ] %s, %s: %.3f m off, fit %.2f, lines per view",
                 two_rigs ? "two rigs" : "one rig", ToString(r.track.outcome),
                 r.valid ? "valid" : r.error.c_str(), off, r.outline.quality);
@@ -473,6 +486,45 @@ TEST(Registrar, AnImageStartThroughASecondRigWhereTheBoomHidesTheFirst) {
     EXPECT_EQ(r.outline.view_lines[0] + r.outline.view_lines[1], 0);
     EXPECT_GT(r.outline.quality, 0.95);
     EXPECT_LT(off, 0.6);
+  }
+}
+
+// A start from the images watched (partial_below 1: every one) and confirmed by stereo's range
+// alone (partial_range_required): while stereo has no points on the receiver its poses stay
+// withheld; once it has, they are published after partial_confirm frames in agreement. Without
+// the requirement, frames without stereo's verdict confirm it as well (a wrong start over the
+// background, where stereo has no points, was so confirmed: docs/AVAILABILITY.md).
+TEST(Registrar, AStartUnderWatchWaitsForStereosRangeWhenRequired) {
+  FarView view;
+  OutlineFrame frame = view.frame;
+  frame.more_rigs.push_back(view.second);
+  std::vector<Eigen::Vector3d> stereo;  // every 8th dense sample of the receiver, as stereo's
+  const auto dense =
+      aar_geometry::SampleReceiver(Receiver(), aar_geometry::ReferenceModelOptions{});
+  for (size_t i = 0; i < dense.size(); i += 8) stereo.push_back(view.truth * dense.points[i]);
+  for (const bool required : {false, true}) {
+    RegistrarOptions options = view.Options();
+    options.outline.partial_below = 1.0;
+    options.outline.partial_confirm = 2;
+    options.outline.partial_range_sigmas = 3.0;
+    options.outline.disparity_sigma = 0.25;
+    options.outline.partial_range_independent_points = 10;
+    options.outline.partial_range_required = required;
+    Registrar registrar(options);
+    registrar.BuildStaticReference(Receiver(), {});
+    registrar.SetOutlineModel(Receiver());
+    std::string published;  // per frame: 1 published, 0 withheld
+    for (int k = 0; k < 6; ++k) {
+      const bool seen = k >= 4;  // stereo's points from the 5th frame on
+      const RegistrarResult r =
+          registrar.Register(seen ? stereo : std::vector<Eigen::Vector3d>{}, 1.0 + 0.1 * k, &frame);
+      published += r.valid ? '1' : '0';
+      std::printf("[ %s ] frame %d: %s\n", required ? "required" : "not required", k + 1,
+                  r.valid ? "published" : r.error.c_str());
+    }
+    // Measured: not required, published from the 3rd frame on (2 accepted after the start);
+    // required, from the 6th (the 5th and 6th in agreement with stereo).
+    EXPECT_EQ(published, required ? "000001" : "001111");
   }
 }
 

@@ -603,8 +603,20 @@ TEST(Config, FlightHoldsTrackingOutlinesSettings) {
   no_boom["registration"]["model_boom"] = true;                // config/registration.yaml's
   no_boom["stereo"]["aar_stereo"]["roi_include_boom"] = true;  // config/stereo.yaml's
   no_boom["occlusion"] = occlusion;
-  // (Compared as text, not printed: a parameter tree is pages long.)
-  EXPECT_TRUE(no_boom.toXml() == flight.toXml()) << "flight_no_boom differs from flight";
+  // (Compared as text; a parameter tree is pages long: the keys that differ are named.)
+  std::string differ;
+  for (auto& [ns, keys] : flight) {
+    const bool both = keys.getType() == XmlRpc::XmlRpcValue::TypeStruct && no_boom.hasMember(ns) &&
+                      no_boom[ns].getType() == XmlRpc::XmlRpcValue::TypeStruct;
+    if (!both) {
+      if (!no_boom.hasMember(ns) || no_boom[ns].toXml() != keys.toXml()) differ += " " + ns;
+      continue;
+    }
+    for (auto& [key, value] : keys)
+      if (!no_boom[ns].hasMember(key) || no_boom[ns][key].toXml() != value.toXml())
+        differ += " " + ns + "/" + key;
+  }
+  EXPECT_TRUE(no_boom.toXml() == flight.toXml()) << "flight_no_boom differs from flight:" << differ;
 }
 
 // `load` (a loader on `bad`) throws std::invalid_argument naming bad's `key` by its full name.
@@ -737,7 +749,8 @@ TEST(Config, OutlineOffByDefaultBadValuesRefused) {
       {"outline_image_start_partial_below", -0.1},
       {"outline_image_start_partial_confirm", -1},
       {"outline_image_start_partial_range_sigmas", -1.0},
-      {"outline_image_start_partial_range_min_points", 0}};
+      {"outline_image_start_partial_range_min_points", 0},
+      {"outline_image_start_partial_range_independent_points", 0}};
   for (const auto& [key, value] : bad_values) {
     ros::NodeHandle bad("/registration_outline_bad_" + key);
     bad.setParam("track", true);
@@ -745,7 +758,8 @@ TEST(Config, OutlineOffByDefaultBadValuesRefused) {
     if (key == "outline_max_poor_frames" || key == "outline_contour_points" ||
         key == "outline_mask_size" || key == "outline_start_candidates" ||
         key == "outline_image_start_partial_confirm" ||
-        key == "outline_image_start_partial_range_min_points")
+        key == "outline_image_start_partial_range_min_points" ||
+        key == "outline_image_start_partial_range_independent_points")
       bad.setParam(key, static_cast<int>(value));
     else
       bad.setParam(key, value);

@@ -18,6 +18,10 @@ struct RangeCheckOptions {
   double sigmas = 3.0;
   double disparity_sigma = 0.25;  // [px] sigma_d
   int min_points = 10;            // fewer points on the receiver's image: no verdict
+  // The median of N points with independent errors is sigma_Z / sqrt(N) sure, about; stereo's
+  // errors are not independent (disparity biases shared by neighbours), so at most this many
+  // count: the tolerance is sigmas * sigma_Z / sqrt(min(N, independent_points)). 1: one point's.
+  int independent_points = 1;
 };
 
 struct RangeCheck {
@@ -26,7 +30,7 @@ struct RangeCheck {
   bool agrees = false;           // enough, and the median within the tolerance
   double median_depth = 0.0;     // [m] of those points, left optical frame
   double near = 0.0, far = 0.0;  // [m] the receiver's depth at the pose
-  double tolerance = 0.0;        // [m] sigmas * sigma_Z at median_depth
+  double tolerance = 0.0;        // [m] sigmas * sigma_Z at median_depth / sqrt(independent)
 
   std::string ToString() const;  // "stereo's N points at M m against the receiver's A to B m ..."
 };

@@ -66,7 +66,7 @@ struct OutlineOptions {
   // (aar_alignment::SeenShare) is a partial one: the track runs, but its poses are not
   // published until partial_confirm frames in a row after the start had a measurement accepted
   // (a wrong start from a few lines is rejected by the next frames' measurements and dropped
-  // unseen). partial_below 0: no start is partial.
+  // unseen). partial_below 0: no start is partial; 1: every start from the images is.
   double partial_below = 0.0;
   int partial_confirm = 2;
   // A partial start's range checked against stereo's points (RangeCheck) on every frame until it
@@ -77,6 +77,11 @@ struct OutlineOptions {
   // as without the check. 0: off.
   double partial_range_sigmas = 0.0;
   int partial_range_min_points = 10;
+  // How many of those points count as independent (RangeCheckOptions::independent_points).
+  int partial_range_independent_points = 1;
+  // A frame without a verdict (too few points) does not confirm a start under watch: its poses
+  // stay withheld until stereo's range agrees (a wrong start over the background has no points).
+  bool partial_range_required = false;
   // The same range check on every new track until partial_confirm frames are accepted, whether
   // it started from stereo's seeds or the whole outline; its poses are published meanwhile.
   bool range_all_starts = false;

@@ -126,6 +126,11 @@ OutlineOptions LoadOutlineOptions(aar_ros_common::ParamReader& params, OutlineOp
       params.Get("outline_image_start_partial_range_sigmas", outline.partial_range_sigmas);
   outline.partial_range_min_points =
       params.Get("outline_image_start_partial_range_min_points", outline.partial_range_min_points);
+  outline.partial_range_independent_points =
+      params.Get("outline_image_start_partial_range_independent_points",
+                 outline.partial_range_independent_points);
+  outline.partial_range_required =
+      params.Get("outline_image_start_partial_range_required", outline.partial_range_required);
   outline.range_all_starts = params.Get("outline_start_range_all", outline.range_all_starts);
   aar_alignment::AlignmentOptions& a = outline.alignment;
   a.contour_points = params.Get("outline_contour_points", a.contour_points);
@@ -168,6 +173,11 @@ OutlineOptions LoadOutlineOptions(aar_ros_common::ParamReader& params, OutlineOp
                "outline_start_range_all", "needs outline_image_start_partial_range_sigmas > 0");
   params.Check(outline.partial_range_min_points >= 1,
                "outline_image_start_partial_range_min_points", "must be at least 1");
+  params.Check(outline.partial_range_independent_points >= 1,
+               "outline_image_start_partial_range_independent_points", "must be at least 1");
+  params.Check(!outline.partial_range_required || outline.partial_range_sigmas > 0.0,
+               "outline_image_start_partial_range_required",
+               "needs outline_image_start_partial_range_sigmas > 0");
   params.Check(!outline.image_start || outline.enabled, "outline_image_start",
                "needs outline: true");
   params.Check(a.contour_points >= 8, "outline_contour_points", "must be >= 8");
