@@ -21,7 +21,8 @@ bool Registrar::ConfirmsNewTrack(const std::vector<Eigen::Vector3d>& sensed,
   options.disparity_sigma = o.disparity_sigma;
   options.min_points = o.partial_range_min_points;
   options.independent_points = o.partial_range_independent_points;
-  // Stereo's points are the first rig's, so its cameras check them (OutlineFrame::more_rigs).
+  // Every rig's points (registration merges their clouds), on the first rig's left image: the
+  // rigs see the receiver from nearly the same place far out.
   const RangeCheck check =
       CheckRange(sensed, aligner_->model(), frame->left_camera, frame->baseline(),
                  frame->boom_parts_in_tanker, out.track.filtered.T_tanker_receiver, options);
