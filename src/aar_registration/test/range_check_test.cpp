@@ -71,9 +71,10 @@ RangeCheckOptions Options() {
 }
 
 RangeCheck Check(const std::vector<Eigen::Vector3d>& sensed, const Eigen::Isometry3d& T,
-                 const std::vector<std::vector<Eigen::Vector3d>>& boom = {}) {
+                 const std::vector<std::vector<Eigen::Vector3d>>& boom = {},
+                 const RangeCheckOptions& options = Options()) {
   static const aar_alignment::OutlineModel model(Receiver());
-  return CheckRange(sensed, model, LeftCamera(), kBaseline, boom, T, Options());
+  return CheckRange(sensed, model, LeftCamera(), kBaseline, boom, T, options);
 }
 
 TEST(RangeCheck, StereoAgreesWithTheRightRangeAndNotWithAWrongOne) {
@@ -103,10 +104,7 @@ TEST(RangeCheck, StereoAgreesWithTheRightRangeAndNotWithAWrongOne) {
 // tolerance is 39 / sqrt(10) = 12.3 m; the right range still agrees, the wrong one not.
 TEST(RangeCheck, IndependentPointsNarrowTheToleranceFarOut) {
   const std::vector<Eigen::Vector3d> sensed = Stereo(ReceiverAt(170.0), 10, 4);
-  static const aar_alignment::OutlineModel model(Receiver());
-  RangeCheckOptions one = Options();
-  const RangeCheck wide =
-      CheckRange(sensed, model, LeftCamera(), kBaseline, {}, ReceiverAt(202.0), one);
+  const RangeCheck wide = Check(sensed, ReceiverAt(202.0));
   std::printf("[ one point's ] %s\n", wide.ToString().c_str());
   ASSERT_TRUE(wide.enough);
   EXPECT_NEAR(wide.tolerance, 39.1, 0.5);
@@ -114,14 +112,12 @@ TEST(RangeCheck, IndependentPointsNarrowTheToleranceFarOut) {
 
   RangeCheckOptions ten = Options();
   ten.independent_points = 10;
-  const RangeCheck right =
-      CheckRange(sensed, model, LeftCamera(), kBaseline, {}, ReceiverAt(170.0), ten);
+  const RangeCheck right = Check(sensed, ReceiverAt(170.0), {}, ten);
   std::printf("[ 10 independent, right ] %s\n", right.ToString().c_str());
   ASSERT_GE(right.points, 10);
   EXPECT_NEAR(right.tolerance, 39.1 / std::sqrt(10.0), 0.3);
   EXPECT_TRUE(right.agrees);
-  const RangeCheck wrong =
-      CheckRange(sensed, model, LeftCamera(), kBaseline, {}, ReceiverAt(202.0), ten);
+  const RangeCheck wrong = Check(sensed, ReceiverAt(202.0), {}, ten);
   std::printf("[ 10 independent, 32 m long ] %s\n", wrong.ToString().c_str());
   EXPECT_FALSE(wrong.agrees);
 }

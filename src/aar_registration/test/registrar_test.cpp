@@ -498,10 +498,7 @@ TEST(Registrar, AStartUnderWatchWaitsForStereosRangeWhenRequired) {
   FarView view;
   OutlineFrame frame = view.frame;
   frame.more_rigs.push_back(view.second);
-  std::vector<Eigen::Vector3d> stereo;  // every 8th dense sample of the receiver, as stereo's
-  const auto dense =
-      aar_geometry::SampleReceiver(Receiver(), aar_geometry::ReferenceModelOptions{});
-  for (size_t i = 0; i < dense.size(); i += 8) stereo.push_back(view.truth * dense.points[i]);
+  const std::vector<Eigen::Vector3d> stereo = Sensed(view.truth, 0.005, 1);
   for (const bool required : {false, true}) {
     RegistrarOptions options = view.Options();
     options.outline.partial_below = 1.0;
