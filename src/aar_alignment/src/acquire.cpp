@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -22,10 +23,10 @@ struct Placement {
   const PinholeCamera* camera = nullptr;  // the camera whose image it was found in
 };
 
-// The receiver at `attitude`, `range` [m] along the left camera's ray through the image's centre.
-Eigen::Isometry3d AtImageCentre(const PinholeCamera& c, const Eigen::Matrix3d& attitude,
-                                double range) {
-  const Eigen::Vector3d optical(0.5 * (c.width - 1) - c.cx, 0.5 * (c.height - 1) - c.cy, 0.0);
+// The receiver at `attitude`, `range` [m] along the camera's ray through `pixel`.
+Eigen::Isometry3d AtPixel(const PinholeCamera& c, const Eigen::Matrix3d& attitude, double range,
+                          const Eigen::Vector2d& pixel) {
+  const Eigen::Vector3d optical(pixel.x() - c.cx, pixel.y() - c.cy, 0.0);
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
   T.linear() = attitude;
   T.translation() = c.T_tanker_optical *
@@ -51,21 +52,64 @@ bool Seen(const AcquisitionOptions& o, const AlignmentResult& r) {
   return r.valid && SeenShare(o, r) >= o.min_visible;
 }
 
+// Where stereo's cue puts the receiver in `camera`'s image: of the cue's points between min_range
+// and max_range in front of it and inside the image, the most that lie within the receiver's
+// radius (`radius_m` at the point's depth) of one of them, at their median pixel; none when
+// fewer than cue_min_points lie so together (or the cue is off). Points scattered over the
+// image (mismatches where the boom hides the receiver from one camera) cue nothing.
+std::optional<Eigen::Vector2d> CuePixel(const PinholeCamera& camera, const AcquisitionOptions& o,
+                                        const std::vector<Eigen::Vector3d>& cue, double radius_m) {
+  if (o.cue_min_points <= 0) return std::nullopt;
+  const Eigen::Isometry3d T_optical_tanker = camera.T_tanker_optical.inverse();
+  std::vector<Eigen::Vector3d> pixels;  // u, v [px] and the radius there [px]
+  for (const Eigen::Vector3d& p : cue) {
+    const Eigen::Vector3d y = T_optical_tanker * p;
+    if (!(y.z() >= o.min_range && y.z() <= o.max_range)) continue;
+    const Eigen::Vector2d px(camera.fx * y.x() / y.z() + camera.cx,
+                             camera.fy * y.y() / y.z() + camera.cy);
+    if (px.x() < 0.0 || px.y() < 0.0 || px.x() > camera.width - 1 || px.y() > camera.height - 1)
+      continue;
+    pixels.emplace_back(px.x(), px.y(), camera.fx * radius_m / y.z());
+  }
+  std::vector<double> best_u, best_v;
+  for (const Eigen::Vector3d& centre : pixels) {
+    std::vector<double> u, v;
+    for (const Eigen::Vector3d& p : pixels) {
+      if ((p.head<2>() - centre.head<2>()).norm() > centre.z()) continue;
+      u.push_back(p.x()), v.push_back(p.y());
+    }
+    if (u.size() > best_u.size()) best_u.swap(u), best_v.swap(v);
+  }
+  if (static_cast<int>(best_u.size()) < o.cue_min_points) return std::nullopt;
+  auto median = [](std::vector<double>& x) {
+    std::nth_element(x.begin(), x.begin() + x.size() / 2, x.end());
+    return x[x.size() / 2];
+  };
+  return Eigen::Vector2d(median(best_u), median(best_v));
+}
+
 // The search over the image of `camera` (`image`, `boom` its mask) at every range: the
 // placements seen, into `placements`; returns the ranges whose search found one.
 int SearchRanges(const OutlineAligner& aligner, const AlignmentInput& in, const cv::Mat& image,
                  const PinholeCamera& camera, const AcquisitionOptions& o,
-                 std::vector<Placement>& placements) {
+                 const std::vector<Eigen::Vector3d>& cue, std::vector<Placement>& placements) {
   const cv::Mat boom = BoomMask(camera, in.boom_parts_in_tanker, aligner.options().boom_margin_px);
+  double radius_m = 0.0;  // the receiver's
+  for (const Eigen::Vector3d& v : aligner.model().mesh().vertices)
+    radius_m = std::max(radius_m, v.norm());
+  const std::optional<Eigen::Vector2d> cued = CuePixel(camera, o, cue, radius_m);
+  const Eigen::Vector2d centre =
+      cued.value_or(Eigen::Vector2d(0.5 * (camera.width - 1), 0.5 * (camera.height - 1)));
   ShiftSearchOptions search;
-  search.radius_px = 0.5 * std::max(camera.width, camera.height) + 1.0;  // the whole image
   search.template_size = o.template_size;
   search.uniform_scores_zero = true;
   int ranges = 0;
   for (double range = o.min_range; range <= o.max_range * (1.0 + 1e-9); range *= o.range_step) {
-    const ShiftSearchResult s =
-        SearchShift(aligner.model(), image, boom, camera,
-                    AtImageCentre(camera, in.T_tanker_receiver_predicted.linear(), range), search);
+    search.radius_px = cued ? camera.fx * radius_m / range + o.cue_margin_px
+                            : 0.5 * std::max(camera.width, camera.height) + 1.0;  // whole image
+    const ShiftSearchResult s = SearchShift(
+        aligner.model(), image, boom, camera,
+        AtPixel(camera, in.T_tanker_receiver_predicted.linear(), range, centre), search);
     if (!s.valid) continue;
     ++ranges;
     AlignmentInput a = in;
@@ -128,20 +172,22 @@ void AcquisitionOptions::Validate() const {
   if (!(range_step > 1.0)) fail("range_step must be > 1");
   if (template_size < 8) fail("template_size must be at least 8 px");
   if (candidates < 1) fail("candidates must be at least 1");
+  if (cue_min_points < 0) fail("cue_min_points must be >= 0");
+  if (!(cue_margin_px >= 0.0)) fail("cue_margin_px must be >= 0");
   if (!(min_visible >= 0.0 && min_visible <= 1.0)) fail("min_visible must lie in [0, 1]");
   if (!(sigma_across > 0.0) || !(sigma_rotation > 0.0))
     fail("sigma_across and sigma_rotation must be > 0");
 }
 
 AcquisitionResult Acquire(const OutlineAligner& aligner, const AlignmentInput& in,
-                          const AcquisitionOptions& o) {
+                          const AcquisitionOptions& o, const std::vector<Eigen::Vector3d>& cue) {
   const auto start = std::chrono::steady_clock::now();
   AcquisitionResult out;
   out.error = CheckAlignmentInput(in);
   if (!out.error.empty()) return out;
   std::vector<Placement> placements;
   for (const auto& [image, camera] : Searched(in, o.both_views))
-    out.ranges += SearchRanges(aligner, in, *image, *camera, o, placements);
+    out.ranges += SearchRanges(aligner, in, *image, *camera, o, cue, placements);
   if (placements.empty()) {
     out.error =
         out.ranges == 0
@@ -168,6 +214,7 @@ AcquisitionResult Acquire(const OutlineAligner& aligner, const AlignmentInput& i
         out.error = r.valid ? "aligned, less than min_visible of the outline is seen" : r.error;
       continue;
     }
+
     if (out.valid && r.quality <= out.alignment.quality) continue;
     out.valid = true;
     out.alignment = r;

@@ -381,7 +381,7 @@ void Registrar::Start(double stamp_s, const std::vector<Eigen::Vector3d>& sensed
   stereo.resize(stereo.size() - 2);
   std::string why;
   if (options_.outline.image_start) {
-    if (ImageStart(stamp_s, frame, out, why)) {
+    if (ImageStart(stamp_s, sensed, frame, out, why)) {
       out.outline_note += " (stereo's seeds refused: " + stereo + ")";
       return;
     }
@@ -392,13 +392,13 @@ void Registrar::Start(double stamp_s, const std::vector<Eigen::Vector3d>& sensed
   out.error = out.outline_note;  // the start's reasons hold ICP's (seed 1's), and more
 }
 
-bool Registrar::ImageStart(double stamp_s, const OutlineFrame& frame, RegistrarResult& out,
-                           std::string& why) {
+bool Registrar::ImageStart(double stamp_s, const std::vector<Eigen::Vector3d>& sensed,
+                           const OutlineFrame& frame, RegistrarResult& out, std::string& why) {
   // The nominal pose gives the attitude searched at; Acquire ignores its position.
   const aar_alignment::AlignmentInput in =
       AlignmentInputOf(frame, options_.T_tanker_receiver_nominal);
   const aar_alignment::AcquisitionResult a =
-      aar_alignment::Acquire(*aligner_, in, options_.outline.acquisition);
+      aar_alignment::Acquire(*aligner_, in, options_.outline.acquisition, sensed);
   out.outline = a.alignment;
   out.outline_ran = true;
   out.outline_ms += a.time_ms;

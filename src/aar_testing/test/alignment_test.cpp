@@ -4,6 +4,7 @@
 // fit the images (a self-consistent wrong pose stereo alone would accept).
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <random>
 
 #include <aar_alignment/aligner.h>
@@ -19,6 +20,7 @@
 #include "aar_testing/alignment_views.h"
 #include "aar_testing/paths.h"
 #include "aar_testing/sim_stereo.h"
+#include "aar_testing/suite_approach.h"
 
 namespace aar_testing {
 namespace {
@@ -361,6 +363,57 @@ TEST(OutlineAlignment, WithoutStereoPointsATrackStartsFromTheImagesAlone) {
       EXPECT_LT(e.position_m.norm(), 1.3);
       EXPECT_LT(angle, 0.45);
     }
+  }
+}
+
+// Far out over clouds the receiver is seldom the image's best placement for the search: on suite
+// approach 7001's first frame (174 m) in the realistic world, with the boom's ruddevator across
+// the receiver, the whole image's search places it 15 m off, and that start passes
+// image_start_quality (0.7). Stereo's points 50 to 200 m out, most of them on the receiver (62 of
+// 79 here), say where to search.
+TEST(OutlineAlignment, StereosCueFindsAFarReceiverOverClouds) {
+  const std::string path_file = WriteSuiteApproach(7001);
+  const aar_sim::FlightPathRow row = aar_sim::FlightPath::Load(path_file).At(0.0);
+  std::remove(path_file.c_str());
+  SimStereo sim(RealisticWorld());
+  const SimStereoFrame f = sim.Run(row, row.boom.value_or(aar_description::DefaultBoomPose()), 0);
+  aar_registration::OutlineFrame frame;
+  frame.left = sim.Left(f.rendered), frame.right = sim.Right(f.rendered);
+  frame.left_camera = LeftCamera(sim.rig()), frame.right_camera = RightCamera(sim.rig());
+  frame.boom_parts_in_tanker = aar_alignment::BoomPartsInTanker(
+      aar_description::LoadBoomCollisionParts(LoadBoomModel()), f.rendered.T_tanker_links);
+  const Eigen::Isometry3d& truth = f.rendered.T_tanker_receiver;
+  for (const int cue : {0, 10}) {
+    aar_registration::RegistrarOptions o;
+    o.reference = aar_registration::ReferenceKind::kDense;
+    o.T_tanker_receiver_nominal =
+        aar_description::LoadReceiverDescription(ModelsDir() + "/c12.yaml")
+            .T_tanker_receiver_contact;
+    o.track = true;
+    o.outline.enabled = o.outline.image_start = true;
+    o.outline.acquisition.min_visible = 0.3;  // the boom hides 40 % of the outline's lines
+    o.outline.acquisition.cue_min_points = cue;
+    o.outline.alignment.mask_size = 1408, o.outline.alignment.mask_max_scale = 1.0;  // flight's
+    aar_registration::Registrar registrar(o);
+    registrar.BuildStaticReference(sim.world().receiver_mesh(), {});
+    registrar.SetOutlineModel(sim.world().receiver_mesh());
+    const aar_registration::RegistrarResult r = registrar.Register(f.points_in_tanker, 1.0, &frame);
+    const double error = (r.T_tanker_receiver.translation() - truth.translation()).norm();
+    const double angle = aar_geometry::RadToDeg(
+        Eigen::AngleAxisd(r.T_tanker_receiver.linear() * truth.linear().transpose()).angle());
+    std::printf("[ cue %d ] %zu stereo points, valid %d, %.3f m and %.2f deg off, fit %.2f, %s\n",
+                cue, f.points_in_tanker.size(), r.valid, error, angle, r.outline.quality,
+                r.outline_note.c_str());
+    ASSERT_TRUE(r.valid) << r.outline_note;
+    EXPECT_NE(r.outline_note.find("started from the images alone"), std::string::npos)
+        << r.outline_note;
+    if (cue == 0) {
+      EXPECT_GT(error, 10.0);  // measured 14.7 m, 1.4 deg (fit 0.71)
+      continue;
+    }
+    EXPECT_LT(error, 1.0);              // measured 0.835 m
+    EXPECT_LT(angle, 0.6);              // measured 0.43 deg
+    EXPECT_GT(r.outline.quality, 0.8);  // measured 0.83
   }
 }
 

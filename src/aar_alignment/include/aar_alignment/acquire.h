@@ -1,6 +1,9 @@
 #pragma once
 
 #include <string>
+#include <vector>
+
+#include <Eigen/Core>
 
 #include "aar_alignment/aligner.h"
 
@@ -11,9 +14,10 @@ namespace aar_alignment {
 // none), its silhouette at the expected attitude is searched over the whole left image of every
 // rig (the input's left and each further rig's left extra view; with both_views, every image) at
 // ranges from min_range to max_range along that camera's axis (SearchShift at each, the boom
-// masked), the placements whose outline fits best (OutlineAligner::Score) are aligned in every
-// image (OutlineAligner::Align, from a prior long along the line of sight of the camera it was
-// found in: the outline's size fixes the range), and the best fit is the result.
+// masked; with stereo's cue, only around it), the placements whose outline fits best
+// (OutlineAligner::Score) are aligned in every image (OutlineAligner::Align, from a prior long
+// along the line of sight of the camera it was found in: the outline's size fixes the range), and
+// the best fit is the result.
 struct AcquisitionOptions {
   double min_range = 50.0;   // [m] from the left camera along its axis
   double max_range = 200.0;  // [m]
@@ -35,6 +39,14 @@ struct AcquisitionOptions {
   // attitude [rad]; along the line of sight it is the range grid's step at that range.
   double sigma_across = 1.0;
   double sigma_rotation = 0.05;
+  // Stereo's cue (Acquire's `cue`): with at least cue_min_points of its points between min_range
+  // and max_range in front of a searched camera, that image is searched only around their median
+  // pixel, as far as the receiver's radius reaches at each range and cue_margin_px more. Over
+  // terrain and clouds the receiver is seldom the image's best placement, but far out stereo
+  // still puts most of its points in that range band on it (the boom is nearer, the ground
+  // beyond max_range). Fewer points: the whole image. 0: no cue.
+  int cue_min_points = 0;
+  double cue_margin_px = 16.0;  // [px]
 
   // Throws std::invalid_argument naming the field that is out of range.
   void Validate() const;
@@ -59,7 +71,9 @@ double SeenShare(const AcquisitionOptions& options, const AlignmentResult& r);
 
 // `in`'s images (extra_views too), cameras and boom; its predicted pose gives only the attitude
 // searched at (its position is ignored). Never throws for bad images (valid = false and why).
+// `cue`: stereo's points [m, tanker frame] (options.cue_min_points).
 AcquisitionResult Acquire(const OutlineAligner& aligner, const AlignmentInput& in,
-                          const AcquisitionOptions& options = {});
+                          const AcquisitionOptions& options = {},
+                          const std::vector<Eigen::Vector3d>& cue = {});
 
 }  // namespace aar_alignment

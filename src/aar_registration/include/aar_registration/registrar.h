@@ -56,9 +56,10 @@ struct OutlineOptions {
   int start_candidates = 3;
   // When every stereo seed is refused, a start from the images alone (aar_alignment::Acquire):
   // the receiver's silhouette at the nominal attitude searched over the left image at the
-  // acquisition's ranges; a fit of at least image_start_quality, with acquisition.min_visible of
-  // the outline seen, starts the track. For far out, where stereo gives a receiver a few dozen
-  // points that culling or the boom's own points can outweigh.
+  // acquisition's ranges (around stereo's points in that range, acquisition.cue_min_points); a fit
+  // of at least image_start_quality, with acquisition.min_visible of the outline seen, starts the
+  // track. For far out, where stereo gives a receiver a few dozen points that culling or the boom's
+  // own points can outweigh.
   bool image_start = false;
   aar_alignment::AcquisitionOptions acquisition;
   double image_start_quality = 0.7;
@@ -275,10 +276,10 @@ class Registrar {
   // passes the gate and whose outline fits starts the track; otherwise the frame is rejected.
   void Start(double stamp_s, const std::vector<Eigen::Vector3d>& sensed, const OutlineFrame& frame,
              RegistrarResult& out);
-  // The start from the images alone (outline.image_start); false and why not when it fits too
-  // poorly.
-  bool ImageStart(double stamp_s, const OutlineFrame& frame, RegistrarResult& out,
-                  std::string& why);
+  // The start from the images alone (outline.image_start), `sensed` its cue
+  // (acquisition.cue_min_points); false and why not when it fits too poorly.
+  bool ImageStart(double stamp_s, const std::vector<Eigen::Vector3d>& sensed,
+                  const OutlineFrame& frame, RegistrarResult& out, std::string& why);
   // Why the registration in `out` fails the gate (fitness, RMS, degenerate); empty: it passes.
   std::string GateFailure(const RegistrarResult& out) const;
   // The outline aligned from `T` with its covariance; fills out.outline*.

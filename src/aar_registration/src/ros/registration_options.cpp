@@ -119,6 +119,10 @@ OutlineOptions LoadOutlineOptions(aar_ros_common::ParamReader& params, OutlineOp
   acquisition.range_step = params.Get("outline_image_start_range_step", acquisition.range_step);
   acquisition.min_visible = params.Get("outline_image_start_min_visible", acquisition.min_visible);
   acquisition.both_views = params.Get("outline_image_start_both_views", acquisition.both_views);
+  acquisition.cue_min_points =
+      params.Get("outline_image_start_cue_min_points", acquisition.cue_min_points);
+  acquisition.cue_margin_px =
+      params.Get("outline_image_start_cue_margin", acquisition.cue_margin_px);
   outline.partial_below = params.Get("outline_image_start_partial_below", outline.partial_below);
   outline.partial_confirm =
       params.Get("outline_image_start_partial_confirm", outline.partial_confirm);
@@ -163,6 +167,9 @@ OutlineOptions LoadOutlineOptions(aar_ros_common::ParamReader& params, OutlineOp
                "outline_image_start_min_visible", "must lie in [0, 1]");
   params.Check(outline.partial_below >= 0.0 && outline.partial_below <= 1.0,
                "outline_image_start_partial_below", "must lie in [0, 1]");
+  params.Check(acquisition.cue_min_points >= 0, "outline_image_start_cue_min_points",
+               "must be >= 0");
+  params.Check(acquisition.cue_margin_px >= 0.0, "outline_image_start_cue_margin", "must be >= 0");
   params.Check(outline.partial_confirm >= 0, "outline_image_start_partial_confirm", "must be >= 0");
   params.Check(outline.partial_range_sigmas >= 0.0, "outline_image_start_partial_range_sigmas",
                "must be >= 0");
