@@ -14,7 +14,8 @@
 // outline seen and time. AAR_ACQ_ONLY: this table alone; AAR_ACQ_MINVIS (min_visible),
 // AAR_ACQ_BOTH (both_views);
 // AAR_ACQ_CUE (N: cue_min_points, stereo's points from the block matcher of the whole frame, as
-// acquisition has them); AAR_ALIGN_RIG2 ("X,Y,Z": a second rig centred there, its views added).
+// acquisition has them); AAR_ALIGN_RIG2 ("X,Y,Z": a second rig centred there, its views added);
+// AAR_ALIGN_RECEIVER (another receiver's description).
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
@@ -185,7 +186,7 @@ void AcquisitionTable(aar_testing::SimStereo& sim, const aar_sim::FlightPath& pa
                       const aar_alignment::AcquisitionOptions& acquisition,
                       aar_testing::SimStereo* second = nullptr) {
   const aar_alignment::OutlineAligner aligner(sim.world().receiver_mesh(), options);
-  const auto c12 = aar_description::LoadReceiverDescription(aar_testing::ModelsDir() + "/c12.yaml");
+  const Eigen::Isometry3d& contact = sim.world_options().receiver.T_tanker_receiver_contact;
   std::printf("\nfrom the images alone (Acquire, min_visible %.2f, cue_min_points %d%s)\n",
               acquisition.min_visible, acquisition.cue_min_points, second ? ", two rigs" : "");
   std::printf("%6s %7s %9s | %8s %8s %9s %7s %6s %5s %s\n", "t [s]", "range", "fit@truth", "|dx|",
@@ -198,12 +199,11 @@ void AcquisitionTable(aar_testing::SimStereo& sim, const aar_sim::FlightPath& pa
     f.in.T_tanker_receiver_predicted = truth;
     const double truth_fit = aligner.Score(f.in).quality;
     if (acquisition.cue_min_points > 0) PrintCue(f, sim.left_eye());
-    f.in.T_tanker_receiver_predicted = c12.T_tanker_receiver_contact;  // its attitude only
+    f.in.T_tanker_receiver_predicted = contact;  // its attitude only
     const aar_alignment::AcquisitionResult a =
         aar_alignment::Acquire(aligner, f.in, acquisition, f.cue);
     const auto e = aar_geometry::ComputePoseError(truth, a.alignment.T_tanker_receiver);
-    const auto nominal = aar_geometry::ComputePoseError(c12.T_tanker_receiver_contact,
-                                                        a.alignment.T_tanker_receiver);
+    const auto nominal = aar_geometry::ComputePoseError(contact, a.alignment.T_tanker_receiver);
     std::printf("%6.1f %7.1f %9.3f | %8.3f %8.3f %9.3f %7.3f %6.2f %5.0f %s\n", t,
                 row.position_m.norm(), truth_fit, e.position_m.norm(), AngleDeg(e),
                 AngleDeg(nominal), a.alignment.quality, SeenShare(acquisition, a.alignment),
@@ -222,8 +222,11 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "bench_alignment: usage: [ideal|realistic] [starts >= 1] [m] [deg]\n");
     return 2;
   }
-  aar_testing::SimStereo sim(world == "ideal" ? aar_testing::SimStereo::DefaultWorld()
-                                              : aar_testing::RealisticWorld());
+  aar_sim::WorldOptions world_options =
+      world == "ideal" ? aar_testing::SimStereo::DefaultWorld() : aar_testing::RealisticWorld();
+  if (const char* receiver = std::getenv("AAR_ALIGN_RECEIVER"))  // a description's path
+    world_options.receiver = aar_description::LoadReceiverDescription(receiver);
+  aar_testing::SimStereo sim(world_options);
   const char* path_file = std::getenv("AAR_ALIGN_PATH");
   const auto path =
       aar_sim::FlightPath::Load(path_file ? path_file : aar_testing::DefaultApproachPath());
