@@ -214,7 +214,6 @@ AcquisitionResult Acquire(const OutlineAligner& aligner, const AlignmentInput& i
         out.error = r.valid ? "aligned, less than min_visible of the outline is seen" : r.error;
       continue;
     }
-
     if (out.valid && r.quality <= out.alignment.quality) continue;
     out.valid = true;
     out.alignment = r;

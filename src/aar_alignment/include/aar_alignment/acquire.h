@@ -39,12 +39,13 @@ struct AcquisitionOptions {
   // attitude [rad]; along the line of sight it is the range grid's step at that range.
   double sigma_across = 1.0;
   double sigma_rotation = 0.05;
-  // Stereo's cue (Acquire's `cue`): with at least cue_min_points of its points between min_range
-  // and max_range in front of a searched camera, that image is searched only around their median
-  // pixel, as far as the receiver's radius reaches at each range and cue_margin_px more. Over
-  // terrain and clouds the receiver is seldom the image's best placement, but far out stereo
+  // Stereo's cue (Acquire's `cue`): where at least cue_min_points of its points between
+  // min_range and max_range in front of a searched camera lie within the receiver's radius of
+  // one of them in its image, that image is searched only around their median pixel (the largest
+  // such group's), as far as the receiver's radius reaches at each range and cue_margin_px more.
+  // Over terrain and clouds the receiver is seldom the image's best placement, but far out stereo
   // still puts most of its points in that range band on it (the boom is nearer, the ground
-  // beyond max_range). Fewer points: the whole image. 0: no cue.
+  // beyond max_range). Fewer, or scattered: the whole image. 0: no cue.
   int cue_min_points = 0;
   double cue_margin_px = 16.0;  // [px]
 

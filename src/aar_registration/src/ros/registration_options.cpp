@@ -97,19 +97,9 @@ TrackerOptions LoadTrackerOptions(aar_ros_common::ParamReader& params, TrackerOp
   return t;
 }
 
-OutlineOptions LoadOutlineOptions(aar_ros_common::ParamReader& params, OutlineOptions outline) {
-  outline.enabled = params.Get("outline", outline.enabled);
-  outline.min_quality = params.Get("outline_min_quality", outline.min_quality);
-  outline.max_poor_frames = params.Get("outline_max_poor_frames", outline.max_poor_frames);
-  outline.start_candidates = params.Get("outline_start_candidates", outline.start_candidates);
-  outline.maneuver_quality = params.Get("outline_maneuver_quality", outline.maneuver_quality);
-  outline.start_sigma_position =
-      params.Get("outline_start_sigma_position", outline.start_sigma_position);
-  outline.start_sigma_rotation = aar_geometry::DegToRad(params.Get(
-      "outline_start_sigma_rotation_deg", aar_geometry::RadToDeg(outline.start_sigma_rotation)));
-  outline.disparity_sigma = params.Get("outline_disparity_sigma", outline.disparity_sigma);
-  outline.disparity_rotation = params.Get("outline_disparity_rotation", outline.disparity_rotation);
-  outline.remove_prior = params.Get("outline_remove_prior", outline.remove_prior);
+// The start from the images (outline_image_start_*, outline_start_range_all): acquisition's
+// options and the watch over a new track.
+void LoadImageStartOptions(aar_ros_common::ParamReader& params, OutlineOptions& outline) {
   outline.image_start = params.Get("outline_image_start", outline.image_start);
   outline.image_start_quality =
       params.Get("outline_image_start_quality", outline.image_start_quality);
@@ -136,27 +126,6 @@ OutlineOptions LoadOutlineOptions(aar_ros_common::ParamReader& params, OutlineOp
   outline.partial_range_required =
       params.Get("outline_image_start_partial_range_required", outline.partial_range_required);
   outline.range_all_starts = params.Get("outline_start_range_all", outline.range_all_starts);
-  aar_alignment::AlignmentOptions& a = outline.alignment;
-  a.contour_points = params.Get("outline_contour_points", a.contour_points);
-  a.mask_size = params.Get("outline_mask_size", a.mask_size);
-  a.mask_max_scale = params.GetPositive("outline_mask_max_scale", a.mask_max_scale);
-  a.line_model =
-      params.GetChoice<aar_alignment::LineModel>("outline_line_model", "contrast",
-                                                 {{"contrast", aar_alignment::LineModel::kContrast},
-                                                  {"region", aar_alignment::LineModel::kRegion}});
-  a.search_radius_px = params.Get("outline_search_radius", a.search_radius_px);
-  a.covariance_scale = params.Get("outline_covariance_scale", a.covariance_scale);
-  a.rigs_share_errors = params.Get("outline_rigs_share_errors", a.rigs_share_errors);
-  params.Check(outline.min_quality >= 0.0 && outline.min_quality <= 1.0, "outline_min_quality",
-               "must lie in [0, 1]");
-  params.Check(outline.maneuver_quality >= 0.0 && outline.maneuver_quality <= 1.0,
-               "outline_maneuver_quality", "must lie in [0, 1]");
-  params.Check(outline.max_poor_frames >= 1, "outline_max_poor_frames", "must be >= 1");
-  params.Check(outline.start_candidates >= 1, "outline_start_candidates", "must be >= 1");
-  params.Check(outline.start_sigma_position > 0.0, "outline_start_sigma_position", "must be > 0");
-  params.Check(outline.start_sigma_rotation > 0.0, "outline_start_sigma_rotation_deg",
-               "must be > 0");
-  params.Check(outline.disparity_sigma >= 0.0, "outline_disparity_sigma", "must be >= 0");
   params.Check(outline.image_start_quality >= 0.0 && outline.image_start_quality <= 1.0,
                "outline_image_start_quality", "must lie in [0, 1]");
   params.Check(acquisition.min_range > 0.0, "outline_image_start_min_range", "must be > 0");
@@ -185,6 +154,43 @@ OutlineOptions LoadOutlineOptions(aar_ros_common::ParamReader& params, OutlineOp
   params.Check(!outline.partial_range_required || outline.partial_range_sigmas > 0.0,
                "outline_image_start_partial_range_required",
                "needs outline_image_start_partial_range_sigmas > 0");
+}
+
+OutlineOptions LoadOutlineOptions(aar_ros_common::ParamReader& params, OutlineOptions outline) {
+  outline.enabled = params.Get("outline", outline.enabled);
+  outline.min_quality = params.Get("outline_min_quality", outline.min_quality);
+  outline.max_poor_frames = params.Get("outline_max_poor_frames", outline.max_poor_frames);
+  outline.start_candidates = params.Get("outline_start_candidates", outline.start_candidates);
+  outline.maneuver_quality = params.Get("outline_maneuver_quality", outline.maneuver_quality);
+  outline.start_sigma_position =
+      params.Get("outline_start_sigma_position", outline.start_sigma_position);
+  outline.start_sigma_rotation = aar_geometry::DegToRad(params.Get(
+      "outline_start_sigma_rotation_deg", aar_geometry::RadToDeg(outline.start_sigma_rotation)));
+  outline.disparity_sigma = params.Get("outline_disparity_sigma", outline.disparity_sigma);
+  outline.disparity_rotation = params.Get("outline_disparity_rotation", outline.disparity_rotation);
+  outline.remove_prior = params.Get("outline_remove_prior", outline.remove_prior);
+  LoadImageStartOptions(params, outline);
+  aar_alignment::AlignmentOptions& a = outline.alignment;
+  a.contour_points = params.Get("outline_contour_points", a.contour_points);
+  a.mask_size = params.Get("outline_mask_size", a.mask_size);
+  a.mask_max_scale = params.GetPositive("outline_mask_max_scale", a.mask_max_scale);
+  a.line_model =
+      params.GetChoice<aar_alignment::LineModel>("outline_line_model", "contrast",
+                                                 {{"contrast", aar_alignment::LineModel::kContrast},
+                                                  {"region", aar_alignment::LineModel::kRegion}});
+  a.search_radius_px = params.Get("outline_search_radius", a.search_radius_px);
+  a.covariance_scale = params.Get("outline_covariance_scale", a.covariance_scale);
+  a.rigs_share_errors = params.Get("outline_rigs_share_errors", a.rigs_share_errors);
+  params.Check(outline.min_quality >= 0.0 && outline.min_quality <= 1.0, "outline_min_quality",
+               "must lie in [0, 1]");
+  params.Check(outline.maneuver_quality >= 0.0 && outline.maneuver_quality <= 1.0,
+               "outline_maneuver_quality", "must lie in [0, 1]");
+  params.Check(outline.max_poor_frames >= 1, "outline_max_poor_frames", "must be >= 1");
+  params.Check(outline.start_candidates >= 1, "outline_start_candidates", "must be >= 1");
+  params.Check(outline.start_sigma_position > 0.0, "outline_start_sigma_position", "must be > 0");
+  params.Check(outline.start_sigma_rotation > 0.0, "outline_start_sigma_rotation_deg",
+               "must be > 0");
+  params.Check(outline.disparity_sigma >= 0.0, "outline_disparity_sigma", "must be >= 0");
   params.Check(!outline.image_start || outline.enabled, "outline_image_start",
                "needs outline: true");
   params.Check(a.contour_points >= 8, "outline_contour_points", "must be >= 8");
