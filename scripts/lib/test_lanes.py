@@ -29,6 +29,9 @@ EXCLUSIVE = {
     # Its estimate must reach stereo within a frame or two: missed once beside another test on a
     # loaded machine (roi_area 0.90, not < 0.35), passed alone.
     "test_stereo_roi.test": "an estimate's timing against the next frames",
+    # A stage reloaded after a master restart lost 3 frames (bound 2) beside another test, on a
+    # fresh clone; alone it loses none (five runs, resumed 3.9 to 5.4 s after the kill).
+    "aar_testing_fault_test": "bounds the frames lost while a stage restarts",
 }
 # Target name -> what it holds that another test must not share at the same time: the machine's
 # network namespaces, nftables and Slurm daemons (netns); or both cores (cpu): campaign_test's
