@@ -65,8 +65,7 @@ std::optional<Eigen::Vector2d> CuePixel(const PinholeCamera& camera, const Acqui
   for (const Eigen::Vector3d& p : cue) {
     const Eigen::Vector3d y = T_optical_tanker * p;
     if (!(y.z() >= o.min_range && y.z() <= o.max_range)) continue;
-    const Eigen::Vector2d px(camera.fx * y.x() / y.z() + camera.cx,
-                             camera.fy * y.y() / y.z() + camera.cy);
+    const Eigen::Vector2d px = camera.Project(y);
     if (px.x() < 0.0 || px.y() < 0.0 || px.x() > camera.width - 1 || px.y() > camera.height - 1)
       continue;
     pixels.emplace_back(px.x(), px.y(), camera.fx * radius_m / y.z());
@@ -94,9 +93,7 @@ int SearchRanges(const OutlineAligner& aligner, const AlignmentInput& in, const 
                  const PinholeCamera& camera, const AcquisitionOptions& o,
                  const std::vector<Eigen::Vector3d>& cue, std::vector<Placement>& placements) {
   const cv::Mat boom = BoomMask(camera, in.boom_parts_in_tanker, aligner.options().boom_margin_px);
-  double radius_m = 0.0;  // the receiver's
-  for (const Eigen::Vector3d& v : aligner.model().mesh().vertices)
-    radius_m = std::max(radius_m, v.norm());
+  const double radius_m = aligner.model().radius();
   const std::optional<Eigen::Vector2d> cued = CuePixel(camera, o, cue, radius_m);
   const Eigen::Vector2d centre =
       cued.value_or(Eigen::Vector2d(0.5 * (camera.width - 1), 0.5 * (camera.height - 1)));

@@ -206,7 +206,6 @@ class OutlineAligner::Run {
     R_ = R0_ = in.T_tanker_receiver_predicted.linear();
     p_ = p0_ = in.T_tanker_receiver_predicted.translation();
     prior_ = PriorInformation(o_, in.prediction_covariance);
-    for (const Eigen::Vector3d& v : model_.mesh().vertices) radius_ = std::max(radius_, v.norm());
     // The profile reaches past every stage's line and shift.
     for (const double scale : o_.scales) {
       const LineShape shape(o_, scale);
@@ -248,7 +247,7 @@ class OutlineAligner::Run {
     const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> across(position.topLeftCorner<2, 2>());
     const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> turn(covariance.bottomRightCorner<3, 3>());
     const double metres = std::sqrt(std::max(0.0, across.eigenvalues().maxCoeff())) +
-                          std::sqrt(std::max(0.0, turn.eigenvalues().maxCoeff())) * radius_;
+                          std::sqrt(std::max(0.0, turn.eigenvalues().maxCoeff())) * model_.radius();
     return metres * in_.left_camera.fx / std::max(1.0, y.z());
   }
 
@@ -348,7 +347,6 @@ class OutlineAligner::Run {
   Eigen::Vector3d p_, p0_;
   Matrix6d prior_;
   int profile_half_ = 0;
-  double radius_ = 0.0;                              // [m] of the mesh about the receiver's origin
   std::vector<std::vector<ContourPoint>> contours_;  // per view
   Expectations expected_;                            // of contours_
 };

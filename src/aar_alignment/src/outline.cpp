@@ -128,6 +128,7 @@ OutlineModel::OutlineModel(const aar_geometry::TriangleMesh& receiver) {
   receiver.Validate();
   if (receiver.empty()) throw std::invalid_argument("OutlineModel: the receiver mesh is empty");
   mesh_ = aar_geometry::WeldVertices(receiver).mesh;
+  for (const Eigen::Vector3d& v : mesh_.vertices) radius_ = std::max(radius_, v.norm());
   const aar_geometry::TriangleAdjacency adjacency = aar_geometry::BuildAdjacency(mesh_);
   for (size_t t = 0; t < adjacency.vertices.size(); ++t) {
     for (int k = 0; k < 3; ++k) {

@@ -244,13 +244,12 @@ int main(int argc, char** argv) {
   std::vector<double> times = {0.5,  5.0,  10.0, 15.0, 20.0, 25.0,
                                30.0, 35.0, 40.0, 44.0, 48.0, 50.5};
   if (const char* only = std::getenv("AAR_ALIGN_T")) times = Numbers(only);
-  std::vector<double> acquired;
   aar_alignment::AcquisitionOptions acquisition;
   if (const char* c = std::getenv("AAR_ACQ_MINVIS")) acquisition.min_visible = std::atof(c);
   if (const char* c = std::getenv("AAR_ACQ_CUE")) acquisition.cue_min_points = std::atoi(c);
   acquisition.both_views = std::getenv("AAR_ACQ_BOTH") != nullptr;
-  if (std::getenv("AAR_ACQ_ONLY")) times.swap(acquired), times.clear();
-  for (const double t : times) {
+  const std::vector<double> aligned = std::getenv("AAR_ACQ_ONLY") ? std::vector<double>() : times;
+  for (const double t : aligned) {
     const aar_sim::FlightPathRow row = path.At(t);
     const aar_sim::StereoFrame f = sim.world().Render(
         row, row.boom.value_or(aar_description::DefaultBoomPose()), static_cast<uint64_t>(t * 30));
@@ -285,7 +284,6 @@ int main(int argc, char** argv) {
     w.rig = aar_sim::MakeStereoRig(w.rig.intrinsics, w.rig.baseline, {c.at(0), c.at(1), c.at(2)});
     second = std::make_unique<aar_testing::SimStereo>(w);
   }
-  AcquisitionTable(sim, path, boom, acquired.empty() ? times : acquired, contrast.options(),
-                   acquisition, second.get());
+  AcquisitionTable(sim, path, boom, times, contrast.options(), acquisition, second.get());
   return 0;
 }

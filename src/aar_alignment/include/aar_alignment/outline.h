@@ -74,6 +74,8 @@ class OutlineModel {
                             int size, double max_scale = 4.0) const;
 
   const aar_geometry::TriangleMesh& mesh() const { return mesh_; }
+  // [m] the farthest vertex from the receiver's origin.
+  double radius() const { return radius_; }
 
  private:
   // Vertices in the camera's optical frame and their pixels; false when one is too near.
@@ -89,6 +91,7 @@ class OutlineModel {
   };
   aar_geometry::TriangleMesh mesh_;  // welded
   std::vector<MeshEdge> edges_;
+  double radius_ = 0.0;  // [m]
 };
 
 }  // namespace aar_alignment
