@@ -52,39 +52,55 @@ bool Seen(const AcquisitionOptions& o, const AlignmentResult& r) {
   return r.valid && SeenShare(o, r) >= o.min_visible;
 }
 
-// Where stereo's cue puts the receiver in `camera`'s image: of the cue's points between min_range
-// and max_range in front of it and inside the image, the most that lie within the receiver's
-// radius (`radius_m` at the point's depth) of one of them, at their median pixel; none when
-// fewer than cue_min_points lie so together (or the cue is off). Points scattered over the
-// image (mismatches where the boom hides the receiver from one camera) cue nothing.
-std::optional<Eigen::Vector2d> CuePixel(const PinholeCamera& camera, const AcquisitionOptions& o,
-                                        const std::vector<Eigen::Vector3d>& cue, double radius_m) {
+// Where stereo's cue puts the receiver in `camera`'s image, and how far.
+struct Cue {
+  Eigen::Vector2d pixel;  // [px] the group's median
+  double depth = 0.0;     // [m] the group's median along the camera's axis
+};
+
+double Median(std::vector<double>& x) {
+  std::nth_element(x.begin(), x.begin() + x.size() / 2, x.end());
+  return x[x.size() / 2];
+}
+
+// Of the cue's points between min_range and max_range in front of `camera` and inside its image,
+// the most that lie within the receiver's radius (`radius_m` at the point's depth) of one of them:
+// their median pixel and depth; none when fewer than cue_min_points lie so together (or the cue
+// is off). Points scattered over the image (mismatches where the boom hides the receiver from one
+// camera) cue nothing.
+std::optional<Cue> StereoCue(const PinholeCamera& camera, const AcquisitionOptions& o,
+                             const std::vector<Eigen::Vector3d>& cue, double radius_m) {
   if (o.cue_min_points <= 0) return std::nullopt;
   const Eigen::Isometry3d T_optical_tanker = camera.T_tanker_optical.inverse();
-  std::vector<Eigen::Vector3d> pixels;  // u, v [px] and the radius there [px]
+  std::vector<Eigen::Vector4d> pixels;  // u, v [px], the radius there [px], depth [m]
   for (const Eigen::Vector3d& p : cue) {
     const Eigen::Vector3d y = T_optical_tanker * p;
     if (!(y.z() >= o.min_range && y.z() <= o.max_range)) continue;
     const Eigen::Vector2d px = camera.Project(y);
     if (px.x() < 0.0 || px.y() < 0.0 || px.x() > camera.width - 1 || px.y() > camera.height - 1)
       continue;
-    pixels.emplace_back(px.x(), px.y(), camera.fx * radius_m / y.z());
+    pixels.emplace_back(px.x(), px.y(), camera.fx * radius_m / y.z(), y.z());
   }
-  std::vector<double> best_u, best_v;
-  for (const Eigen::Vector3d& centre : pixels) {
-    std::vector<double> u, v;
-    for (const Eigen::Vector3d& p : pixels) {
+  std::vector<double> best_u, best_v, best_z;
+  for (const Eigen::Vector4d& centre : pixels) {
+    std::vector<double> u, v, z;
+    for (const Eigen::Vector4d& p : pixels) {
       if ((p.head<2>() - centre.head<2>()).norm() > centre.z()) continue;
-      u.push_back(p.x()), v.push_back(p.y());
+      u.push_back(p.x()), v.push_back(p.y()), z.push_back(p.w());
     }
-    if (u.size() > best_u.size()) best_u.swap(u), best_v.swap(v);
+    if (u.size() > best_u.size()) best_u.swap(u), best_v.swap(v), best_z.swap(z);
   }
   if (static_cast<int>(best_u.size()) < o.cue_min_points) return std::nullopt;
-  auto median = [](std::vector<double>& x) {
-    std::nth_element(x.begin(), x.begin() + x.size() / 2, x.end());
-    return x[x.size() / 2];
-  };
-  return Eigen::Vector2d(median(best_u), median(best_v));
+  return Cue{Eigen::Vector2d(Median(best_u), Median(best_v)), Median(best_z)};
+}
+
+// Whether `range` is searched under `cue` (AcquisitionOptions::cue_disparity_margin_px): its
+// disparity within the margin of the cue's, at the rig's `baseline_m`.
+bool InCuesRange(const PinholeCamera& camera, const AcquisitionOptions& o,
+                 const std::optional<Cue>& cue, double baseline_m, double range) {
+  if (!cue || !(o.cue_disparity_margin_px > 0.0)) return true;
+  const double fb = camera.fx * baseline_m;
+  return std::abs(fb / range - fb / cue->depth) <= o.cue_disparity_margin_px;
 }
 
 // The search over the image of `camera` (`image`, `boom` its mask) at every range: the
@@ -94,14 +110,18 @@ int SearchRanges(const OutlineAligner& aligner, const AlignmentInput& in, const 
                  const std::vector<Eigen::Vector3d>& cue, std::vector<Placement>& placements) {
   const cv::Mat boom = BoomMask(camera, in.boom_parts_in_tanker, aligner.options().boom_margin_px);
   const double radius_m = aligner.model().radius();
-  const std::optional<Eigen::Vector2d> cued = CuePixel(camera, o, cue, radius_m);
+  const std::optional<Cue> cued = StereoCue(camera, o, cue, radius_m);
   const Eigen::Vector2d centre =
-      cued.value_or(Eigen::Vector2d(0.5 * (camera.width - 1), 0.5 * (camera.height - 1)));
+      cued ? cued->pixel : Eigen::Vector2d(0.5 * (camera.width - 1), 0.5 * (camera.height - 1));
+  const double baseline_m = (in.right_camera.T_tanker_optical.translation() -
+                             in.left_camera.T_tanker_optical.translation())
+                                .norm();
   ShiftSearchOptions search;
   search.template_size = o.template_size;
   search.uniform_scores_zero = true;
   int ranges = 0;
   for (double range = o.min_range; range <= o.max_range * (1.0 + 1e-9); range *= o.range_step) {
+    if (!InCuesRange(camera, o, cued, baseline_m, range)) continue;
     search.radius_px = cued ? camera.fx * radius_m / range + o.cue_margin_px
                             : 0.5 * std::max(camera.width, camera.height) + 1.0;  // whole image
     const ShiftSearchResult s = SearchShift(
@@ -171,6 +191,7 @@ void AcquisitionOptions::Validate() const {
   if (candidates < 1) fail("candidates must be at least 1");
   if (cue_min_points < 0) fail("cue_min_points must be >= 0");
   if (!(cue_margin_px >= 0.0)) fail("cue_margin_px must be >= 0");
+  if (!(cue_disparity_margin_px >= 0.0)) fail("cue_disparity_margin_px must be >= 0");
   if (!(min_visible >= 0.0 && min_visible <= 1.0)) fail("min_visible must lie in [0, 1]");
   if (!(sigma_across > 0.0) || !(sigma_rotation > 0.0))
     fail("sigma_across and sigma_rotation must be > 0");

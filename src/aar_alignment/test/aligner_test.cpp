@@ -461,6 +461,30 @@ TEST(Acquire, StereosCueChoosesWhereToSearch) {
     ASSERT_TRUE(r.valid) << r.error;
     EXPECT_TRUE(whole.alignment.T_tanker_receiver.isApprox(r.alignment.T_tanker_receiver));
   }
+  // The cue's range (cue_disparity_margin_px): within 1 px of its points' disparity, 3.7 px at
+  // 150 m (f 1108.5 px, b 0.5 m), the search places the receiver only at 117 to 206 m and still
+  // finds it; the same points moved to 90 m along their rays keep the placements to 78 to 107 m.
+  // (The alignment from a placement may still move along the ray: here from 87 m to 3.6 m off
+  // the receiver at 150 m, fit 0.94; the RQ-4's wrong ranges fit too poorly to be aligned.)
+  cued.cue_disparity_margin_px = 1.0;
+  const std::vector<Eigen::Vector3d> on_truth = points_on(scene.truth, 30);
+  const AcquisitionResult kept = Acquire(aligner, scene.in, cued, on_truth);
+  ASSERT_TRUE(kept.valid) << kept.error;
+  std::printf("[ acquire, cue's range ] %.3f m off, from %.0f m\n", off(kept, scene.truth),
+              kept.range_m);
+  EXPECT_LT(off(kept, scene.truth), 0.4);  // measured 0.086 m, from 153 m
+  EXPECT_GT(kept.range_m, 117.0);
+  EXPECT_LT(kept.range_m, 206.0);
+  std::vector<Eigen::Vector3d> nearer;
+  const Eigen::Vector3d eye = scene.in.left_camera.T_tanker_optical.translation();
+  for (const Eigen::Vector3d& p : on_truth) nearer.push_back(eye + (p - eye) * 90.0 / 150.0);
+  const AcquisitionResult near = Acquire(aligner, scene.in, cued, nearer);
+  std::printf("[ acquire, cue at 90 m ] %s, from %.0f m, %.3f m off, fit %.2f\n",
+              near.valid ? "a start" : near.error.c_str(), near.range_m, off(near, scene.truth),
+              near.alignment.quality);
+  ASSERT_TRUE(near.valid) << near.error;
+  EXPECT_GT(near.range_m, 78.0);  // measured 87 m; without the margin 153 m
+  EXPECT_LT(near.range_m, 107.0);
 }
 
 TEST(Acquire, OutOfRangeOptionsAreRefusedNamingTheField) {
@@ -472,6 +496,7 @@ TEST(Acquire, OutOfRangeOptionsAreRefusedNamingTheField) {
       {"candidates", [](AcquisitionOptions& o) { o.candidates = 0; }},
       {"cue_min_points", [](AcquisitionOptions& o) { o.cue_min_points = -1; }},
       {"cue_margin_px", [](AcquisitionOptions& o) { o.cue_margin_px = -1.0; }},
+      {"cue_disparity_margin_px", [](AcquisitionOptions& o) { o.cue_disparity_margin_px = -1.0; }},
       {"min_visible", [](AcquisitionOptions& o) { o.min_visible = 1.5; }},
       {"sigma_across", [](AcquisitionOptions& o) { o.sigma_across = 0.0; }}};
   for (const auto& [field, spoil] : bad) {

@@ -100,6 +100,11 @@ TEST(Config, EveryExperimentLoadsIntoEveryNode) {
       EXPECT_EQ(registration.registrar.outline.partial_range_sigmas, partial ? 3.0 : 0.0) << name;
       EXPECT_EQ(registration.registrar.outline.range_all_starts, partial) << name;
       EXPECT_EQ(registration.registrar.outline.partial_range_min_points, partial ? 3 : 10) << name;
+      // Stereo's cue: flight_two_rigs and flight_partial; its range, flight_partial.
+      const aar_alignment::AcquisitionOptions& acquisition =
+          registration.registrar.outline.acquisition;
+      EXPECT_EQ(acquisition.cue_min_points, partial || name == "flight_two_rigs" ? 10 : 0) << name;
+      EXPECT_EQ(acquisition.cue_disparity_margin_px, partial ? 1.0 : 0.0) << name;
       if (outline) {
         EXPECT_EQ(registration.registrar.outline.disparity_sigma, 0.25);
       } else {
@@ -750,7 +755,10 @@ TEST(Config, OutlineOffByDefaultBadValuesRefused) {
       {"outline_image_start_partial_confirm", -1},
       {"outline_image_start_partial_range_sigmas", -1.0},
       {"outline_image_start_partial_range_min_points", 0},
-      {"outline_image_start_partial_range_independent_points", 0}};
+      {"outline_image_start_partial_range_independent_points", 0},
+      {"outline_image_start_cue_min_points", -1},
+      {"outline_image_start_cue_margin", -1.0},
+      {"outline_image_start_cue_disparity_margin", -0.5}};
   for (const auto& [key, value] : bad_values) {
     ros::NodeHandle bad("/registration_outline_bad_" + key);
     bad.setParam("track", true);
@@ -759,7 +767,8 @@ TEST(Config, OutlineOffByDefaultBadValuesRefused) {
         key == "outline_mask_size" || key == "outline_start_candidates" ||
         key == "outline_image_start_partial_confirm" ||
         key == "outline_image_start_partial_range_min_points" ||
-        key == "outline_image_start_partial_range_independent_points")
+        key == "outline_image_start_partial_range_independent_points" ||
+        key == "outline_image_start_cue_min_points")
       bad.setParam(key, static_cast<int>(value));
     else
       bad.setParam(key, value);

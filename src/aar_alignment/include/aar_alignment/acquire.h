@@ -48,6 +48,12 @@ struct AcquisitionOptions {
   // beyond max_range). Fewer, or scattered: the whole image. 0: no cue.
   int cue_min_points = 0;
   double cue_margin_px = 16.0;  // [px]
+  // And only at the ranges whose disparity lies within this of the cue's (its points' median
+  // depth, at the first rig's baseline): stereo measures the range too, to sigma_d (about 0.25
+  // px) a point. Without it, around the cue's pixel the search fitted an RQ-4 at 132 m 70 m too
+  // far on its slender wings, with none of stereo's points on it (suite approach 7003). 0: every
+  // range.
+  double cue_disparity_margin_px = 0.0;
 
   // Throws std::invalid_argument naming the field that is out of range.
   void Validate() const;

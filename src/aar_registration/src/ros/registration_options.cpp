@@ -113,6 +113,8 @@ void LoadImageStartOptions(aar_ros_common::ParamReader& params, OutlineOptions& 
       params.Get("outline_image_start_cue_min_points", acquisition.cue_min_points);
   acquisition.cue_margin_px =
       params.Get("outline_image_start_cue_margin", acquisition.cue_margin_px);
+  acquisition.cue_disparity_margin_px =
+      params.Get("outline_image_start_cue_disparity_margin", acquisition.cue_disparity_margin_px);
   outline.partial_below = params.Get("outline_image_start_partial_below", outline.partial_below);
   outline.partial_confirm =
       params.Get("outline_image_start_partial_confirm", outline.partial_confirm);
@@ -139,6 +141,8 @@ void LoadImageStartOptions(aar_ros_common::ParamReader& params, OutlineOptions& 
   params.Check(acquisition.cue_min_points >= 0, "outline_image_start_cue_min_points",
                "must be >= 0");
   params.Check(acquisition.cue_margin_px >= 0.0, "outline_image_start_cue_margin", "must be >= 0");
+  params.Check(acquisition.cue_disparity_margin_px >= 0.0,
+               "outline_image_start_cue_disparity_margin", "must be >= 0");
   params.Check(outline.partial_confirm >= 0, "outline_image_start_partial_confirm", "must be >= 0");
   params.Check(outline.partial_range_sigmas >= 0.0, "outline_image_start_partial_range_sigmas",
                "must be >= 0");
