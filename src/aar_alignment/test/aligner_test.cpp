@@ -465,7 +465,7 @@ TEST(Acquire, StereosCueChoosesWhereToSearch) {
   // 150 m (f 1108.5 px, b 0.5 m), the search places the receiver only at 117 to 206 m and still
   // finds it; the same points moved to 90 m along their rays keep the placements to 78 to 107 m.
   // (The alignment from a placement may still move along the ray: here from 87 m to 3.6 m off
-  // the receiver at 150 m, fit 0.94; the RQ-4's wrong ranges fit too poorly to be aligned.)
+  // the receiver at 150 m, fit 0.94. On the RQ-4's 7003 nothing fitted within the cue's range.)
   cued.cue_disparity_margin_px = 1.0;
   const std::vector<Eigen::Vector3d> on_truth = points_on(scene.truth, 30);
   const AcquisitionResult kept = Acquire(aligner, scene.in, cued, on_truth);
